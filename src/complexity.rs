@@ -1,0 +1,160 @@
+//! Low Cayley complexity by the four-cycle test, and the complete Cayley
+//! vector (THEORY.md §3). O(n²) in the number of steps.
+//!
+//! Determinism: when several valid pairs of built clusters carry a step, the
+//! pair built earliest is used (smallest index of its later-built cluster,
+//! then of its earlier one).
+
+use std::collections::HashMap;
+
+use crate::decompose::Decomposition;
+use crate::linkage::Linkage;
+
+/// Why a pair of clusters is valid (adjacent in a four-cycle of clusters).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PairOrigin {
+    /// The two clusters of step `j`, hinged at its vertex.
+    Step(usize),
+    /// Step `j`'s cluster on side `u` (or `w`) and a built cluster `other`,
+    /// hinged at step j's `u` (or `w`), closed into a four-cycle through the
+    /// built pair that shares joint `far`.
+    FourCycle { step: usize, on_u: bool, other: usize, far: usize },
+}
+
+/// The valid pair that carries a step: clusters `tu ∋ u`, `tw ∋ w`, hinged at `x`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Carrier {
+    pub tu: usize,
+    pub tw: usize,
+    pub x: usize,
+    pub origin: PairOrigin,
+}
+
+/// A step where the four-cycle test fails.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LccFailure {
+    pub step: usize,
+    pub message: String,
+}
+
+#[derive(Debug, Clone)]
+pub struct Complexity {
+    /// Low Cayley complexity: every endpoint is a ruler-and-compass value.
+    pub low: bool,
+    /// The complete Cayley vector: the base, then one non-edge `(x, v_k)` per later step.
+    pub ccv: Vec<[usize; 2]>,
+    /// For each step after the first, the pair that carries it (`None` for
+    /// step 0, and from the failing step on when not LCC).
+    pub carriers: Vec<Option<Carrier>>,
+    pub failure: Option<LccFailure>,
+}
+
+fn key(a: usize, b: usize) -> (usize, usize) {
+    (a.min(b), a.max(b))
+}
+
+/// Run the four-cycle test along the construction.
+pub fn four_cycle_test(linkage: &Linkage, dec: &Decomposition) -> Complexity {
+    let clusters = &dec.clusters;
+    let mut valid: HashMap<(usize, usize), PairOrigin> = HashMap::new();
+    let mut built: Vec<usize> = Vec::new(); // in build order
+    let mut ccv = vec![dec.base];
+    let mut carriers = vec![None; dec.steps.len()];
+    let mut failure = None;
+    let built_index = |built: &[usize], c: usize| built.iter().position(|&b| b == c).unwrap_or(usize::MAX);
+    for (k, step) in dec.steps.iter().enumerate() {
+        if k > 0 && failure.is_none() {
+            let holding = |j: usize| -> Vec<usize> {
+                built.iter().copied().filter(|&c| clusters.nodes[c].joints.binary_search(&j).is_ok()).collect()
+            };
+            let (us, ws) = (holding(step.u), holding(step.w));
+            let mut best: Option<((usize, usize), Carrier)> = None;
+            for &tu in &us {
+                for &tw in &ws {
+                    let Some(&origin) = valid.get(&key(tu, tw)) else { continue };
+                    let [x] = clusters.shared(tu, tw)[..] else { continue };
+                    let (bu, bw) = (built_index(&built, tu), built_index(&built, tw));
+                    let rank = (bu.max(bw), bu.min(bw));
+                    if best.as_ref().is_none_or(|(r, _)| rank < *r) {
+                        best = Some((rank, Carrier { tu, tw, x, origin }));
+                    }
+                }
+            }
+            match best {
+                Some((_, carrier)) => {
+                    carriers[k] = Some(carrier);
+                    ccv.push([carrier.x, step.vertex]);
+                    for &tu in &us {
+                        for &tw in &ws {
+                            if let [far] = clusters.shared(tu, tw)[..] {
+                                valid.entry(key(step.cluster_u, tu)).or_insert(PairOrigin::FourCycle {
+                                    step: k,
+                                    on_u: true,
+                                    other: tu,
+                                    far,
+                                });
+                                valid.entry(key(step.cluster_w, tw)).or_insert(PairOrigin::FourCycle {
+                                    step: k,
+                                    on_u: false,
+                                    other: tw,
+                                    far,
+                                });
+                            }
+                        }
+                    }
+                }
+                None => {
+                    failure = Some(explain_failure(linkage, dec, k, &us, &ws));
+                }
+            }
+        }
+        if failure.is_some() {
+            ccv.push([fallback_partner(dec, k), step.vertex]);
+        }
+        valid.entry(key(step.cluster_u, step.cluster_w)).or_insert(PairOrigin::Step(k));
+        built.push(step.cluster_u);
+        built.push(step.cluster_w);
+    }
+    Complexity { low: failure.is_none(), ccv, carriers, failure }
+}
+
+/// For a step past the failing one: a built joint other than `u`, `w`, so
+/// that its distance to the vertex still tells the step's two orientations apart.
+fn fallback_partner(dec: &Decomposition, k: usize) -> usize {
+    let step = &dec.steps[k];
+    let mut built_joints = vec![dec.base[0], dec.base[1]];
+    for s in &dec.steps[..k] {
+        built_joints.extend_from_slice(&dec.clusters.nodes[s.cluster_u].joints);
+        built_joints.extend_from_slice(&dec.clusters.nodes[s.cluster_w].joints);
+    }
+    built_joints.into_iter().find(|&j| j != step.u && j != step.w).unwrap_or(dec.base[0])
+}
+
+fn explain_failure(linkage: &Linkage, dec: &Decomposition, k: usize, us: &[usize], ws: &[usize]) -> LccFailure {
+    let step = &dec.steps[k];
+    let n = &linkage.names;
+    let show = |c: usize| {
+        let js: Vec<&str> = dec.clusters.nodes[c].joints.iter().map(|&j| n[j].as_str()).collect();
+        format!("{{{}}}", js.join(","))
+    };
+    let opposite: Vec<String> = us
+        .iter()
+        .flat_map(|&tu| ws.iter().map(move |&tw| (tu, tw)))
+        .filter(|&(tu, tw)| dec.clusters.shared(tu, tw).is_empty())
+        .map(|(tu, tw)| format!("{} and {}", show(tu), show(tw)))
+        .collect();
+    let why = if opposite.is_empty() {
+        format!("no adjacent pair of built clusters in a four-cycle holds {} and {}", n[step.u], n[step.w])
+    } else {
+        format!(
+            "{} and {} lie on clusters that share no joint (opposite in a four-cycle): {}",
+            n[step.u],
+            n[step.w],
+            opposite.join("; ")
+        )
+    };
+    LccFailure {
+        step: k,
+        message: format!("step {} ({} ◁ ({}, {})): {why}", k + 1, n[step.vertex], n[step.u], n[step.w]),
+    }
+}

@@ -1,0 +1,533 @@
+//! Recognition of 1-dof tree-decomposable linkages: rigidity counting (the
+//! (2,3) pebble game), cluster decomposition by merging triangles of clusters,
+//! the base non-edge, and the construction steps `v ◁ (u, w)`.
+
+use std::collections::HashSet;
+
+use crate::linkage::{Constraint, Linkage};
+
+/// How a cluster was formed; the merge tree lets cluster shapes be computed
+/// from bar lengths alone (a sketch's drawing only fixes orientations).
+#[derive(Debug, Clone, PartialEq)]
+pub enum Origin {
+    Bar(usize),
+    Body(usize),
+    /// The base non-edge (only in the merge from a base, never in `G`'s clusters).
+    Base,
+    /// Three clusters pairwise sharing one joint: `shared[i]` is the joint
+    /// shared by `parts[i]` and `parts[(i + 1) % 3]`.
+    Triangle { parts: [usize; 3], shared: [usize; 3] },
+    /// Two clusters sharing two or more joints (only in over-constrained input).
+    Overlap { parts: [usize; 2] },
+}
+
+#[derive(Debug, Clone)]
+pub struct ClusterNode {
+    /// Sorted joint indices.
+    pub joints: Vec<usize>,
+    pub origin: Origin,
+}
+
+/// Clusters under merging. Node ids are stable; merged nodes stay in the list
+/// (dead) so the merge tree can be walked.
+#[derive(Debug, Clone)]
+pub struct ClusterSet {
+    pub nodes: Vec<ClusterNode>,
+    alive: Vec<bool>,
+    by_joint: Vec<Vec<usize>>,
+}
+
+fn sorted_intersection(a: &[usize], b: &[usize]) -> Vec<usize> {
+    let (mut i, mut j, mut out) = (0, 0, Vec::new());
+    while i < a.len() && j < b.len() {
+        match a[i].cmp(&b[j]) {
+            std::cmp::Ordering::Less => i += 1,
+            std::cmp::Ordering::Greater => j += 1,
+            std::cmp::Ordering::Equal => {
+                out.push(a[i]);
+                i += 1;
+                j += 1;
+            }
+        }
+    }
+    out
+}
+
+/// A merge found by [`ClusterSet::find_merge`].
+#[derive(Debug, Clone, Copy)]
+enum Merge {
+    Triangle { parts: [usize; 3], shared: [usize; 3] },
+    Overlap { parts: [usize; 2] },
+}
+
+impl ClusterSet {
+    /// One cluster per bar and per body.
+    pub fn initial(linkage: &Linkage) -> ClusterSet {
+        let mut set = ClusterSet { nodes: Vec::new(), alive: Vec::new(), by_joint: vec![Vec::new(); linkage.n_joints()] };
+        for (i, bar) in linkage.bars.iter().enumerate() {
+            set.add(bar.joints.to_vec(), Origin::Bar(i));
+        }
+        for (i, body) in linkage.bodies.iter().enumerate() {
+            set.add(body.clone(), Origin::Body(i));
+        }
+        set
+    }
+
+    pub fn add(&mut self, mut joints: Vec<usize>, origin: Origin) -> usize {
+        joints.sort_unstable();
+        joints.dedup();
+        let id = self.nodes.len();
+        for &j in &joints {
+            self.by_joint[j].push(id);
+        }
+        self.nodes.push(ClusterNode { joints, origin });
+        self.alive.push(true);
+        id
+    }
+
+    pub fn is_alive(&self, id: usize) -> bool {
+        self.alive[id]
+    }
+
+    /// Ids of the clusters not merged into a bigger one, in creation order.
+    pub fn alive_ids(&self) -> Vec<usize> {
+        (0..self.nodes.len()).filter(|&i| self.alive[i]).collect()
+    }
+
+    pub fn shared(&self, a: usize, b: usize) -> Vec<usize> {
+        sorted_intersection(&self.nodes[a].joints, &self.nodes[b].joints)
+    }
+
+    fn contains(&self, id: usize, joint: usize) -> bool {
+        self.nodes[id].joints.binary_search(&joint).is_ok()
+    }
+
+    /// Live clusters containing `joint`.
+    pub fn containing(&self, joint: usize) -> impl Iterator<Item = usize> + '_ {
+        self.by_joint[joint].iter().copied().filter(|&c| self.alive[c])
+    }
+
+    /// A merge involving cluster `a`: a triangle of clusters (pairwise one
+    /// shared joint, three distinct joints) or an overlap of two or more joints.
+    fn find_merge(&self, a: usize) -> Option<Merge> {
+        for &p in &self.nodes[a].joints {
+            for b in self.containing(p) {
+                if b == a {
+                    continue;
+                }
+                let ab = self.shared(a, b);
+                if ab.len() >= 2 {
+                    return Some(Merge::Overlap { parts: [a, b] });
+                }
+                for &q in &self.nodes[b].joints {
+                    if q == p || self.contains(a, q) {
+                        continue;
+                    }
+                    for c in self.containing(q) {
+                        if c == a || c == b || self.shared(b, c) != [q] {
+                            continue;
+                        }
+                        if let [r] = self.shared(a, c)[..] {
+                            return Some(Merge::Triangle { parts: [a, b, c], shared: [p, q, r] });
+                        }
+                    }
+                }
+            }
+        }
+        None
+    }
+
+    fn apply(&mut self, merge: Merge) -> usize {
+        let (parts, origin): (Vec<usize>, Origin) = match merge {
+            Merge::Triangle { parts, shared } => (parts.to_vec(), Origin::Triangle { parts, shared }),
+            Merge::Overlap { parts } => (parts.to_vec(), Origin::Overlap { parts }),
+        };
+        let mut joints = Vec::new();
+        for &p in &parts {
+            self.alive[p] = false;
+            joints.extend_from_slice(&self.nodes[p].joints);
+        }
+        self.add(joints, origin)
+    }
+
+    /// Merge until nothing merges. A new triangle can only involve a newly
+    /// made cluster, so each cluster is examined once when it appears.
+    pub fn merge_all(&mut self) {
+        let mut work: Vec<usize> = self.alive_ids();
+        work.reverse();
+        while let Some(a) = work.pop() {
+            if !self.alive[a] {
+                continue;
+            }
+            if let Some(m) = self.find_merge(a) {
+                let d = self.apply(m);
+                work.push(d);
+            }
+        }
+    }
+}
+
+/// Result of the (2,3) pebble game on the constraint graph.
+#[derive(Debug, Clone)]
+pub struct Rigidity {
+    /// Degrees of freedom after removing rigid motions: 2n − 3 − independent.
+    pub dof: usize,
+    /// Constraints rejected as dependent (each over-constrains the linkage).
+    pub redundant: Vec<Constraint>,
+}
+
+/// Generic 2D rigidity by the (2,3) pebble game (Jacobs–Hendrickson), O(n·m).
+pub fn rigidity(linkage: &Linkage) -> Rigidity {
+    let n = linkage.n_joints();
+    let mut pebbles = vec![2u8; n];
+    let mut out: Vec<Vec<usize>> = vec![Vec::new(); n];
+    let mut independent = 0usize;
+    let mut redundant = Vec::new();
+    for ([u, v], origin) in linkage.constraint_edges() {
+        let accepted = loop {
+            if pebbles[u] + pebbles[v] >= 4 {
+                break true;
+            }
+            let found = (pebbles[u] < 2 && fetch_pebble(u, v, &mut pebbles, &mut out))
+                || (pebbles[v] < 2 && fetch_pebble(v, u, &mut pebbles, &mut out));
+            if !found {
+                break false;
+            }
+        };
+        if accepted {
+            pebbles[u] -= 1;
+            out[u].push(v);
+            independent += 1;
+        } else if !redundant.contains(&origin) {
+            redundant.push(origin);
+        }
+    }
+    Rigidity { dof: (2 * n).saturating_sub(3 + independent), redundant }
+}
+
+/// Move a free pebble to `start` by reversing a directed path, never taking one
+/// from `start` or `keep`. Returns whether a pebble was found.
+fn fetch_pebble(start: usize, keep: usize, pebbles: &mut [u8], out: &mut [Vec<usize>]) -> bool {
+    let n = pebbles.len();
+    let mut parent = vec![usize::MAX; n];
+    let mut seen = vec![false; n];
+    seen[start] = true;
+    seen[keep] = true;
+    let mut stack = vec![start];
+    while let Some(x) = stack.pop() {
+        for &y in &out[x] {
+            if seen[y] {
+                continue;
+            }
+            seen[y] = true;
+            parent[y] = x;
+            if pebbles[y] > 0 {
+                pebbles[y] -= 1;
+                pebbles[start] += 1;
+                let mut child = y;
+                while child != start {
+                    let p = parent[child];
+                    let pos = out[p].iter().position(|&t| t == child).expect("path edge exists");
+                    out[p].swap_remove(pos);
+                    out[child].push(p);
+                    child = p;
+                }
+                return true;
+            }
+            stack.push(y);
+        }
+    }
+    false
+}
+
+/// Connected parts of the linkage (joints linked by bars or bodies), each sorted.
+pub fn connected_parts(linkage: &Linkage) -> Vec<Vec<usize>> {
+    let n = linkage.n_joints();
+    let mut root: Vec<usize> = (0..n).collect();
+    fn find(root: &mut [usize], mut x: usize) -> usize {
+        while root[x] != x {
+            root[x] = root[root[x]];
+            x = root[x];
+        }
+        x
+    }
+    for ([u, v], _) in linkage.constraint_edges() {
+        let (a, b) = (find(&mut root, u), find(&mut root, v));
+        root[a] = b;
+    }
+    let mut parts: Vec<Vec<usize>> = Vec::new();
+    let mut index_of_root = vec![usize::MAX; n];
+    for j in 0..n {
+        let r = find(&mut root, j);
+        if index_of_root[r] == usize::MAX {
+            index_of_root[r] = parts.len();
+            parts.push(Vec::new());
+        }
+        parts[index_of_root[r]].push(j);
+    }
+    parts
+}
+
+/// One construction step `vertex ◁ (u, w)`: the clusters `cluster_u ∋ u` and
+/// `cluster_w ∋ w` (ids in [`Decomposition::clusters`]) share `vertex`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Step {
+    pub vertex: usize,
+    pub u: usize,
+    pub w: usize,
+    pub cluster_u: usize,
+    pub cluster_w: usize,
+}
+
+/// A recognised 1-dof tree-decomposable linkage.
+#[derive(Debug, Clone)]
+pub struct Decomposition {
+    /// The clusters of the linkage without its base, with their merge tree.
+    pub clusters: ClusterSet,
+    pub base: [usize; 2],
+    pub steps: Vec<Step>,
+    /// Other valid base non-edges (up to [`MAX_OTHER_BASES`]).
+    pub other_bases: Vec<[usize; 2]>,
+    /// Whether the base was chosen automatically.
+    pub base_chosen: bool,
+}
+
+pub const MAX_OTHER_BASES: usize = 32;
+
+/// Why a linkage is outside the handled class.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Outside {
+    Disconnected { parts: Vec<Vec<usize>> },
+    OverConstrained { redundant: Vec<Constraint>, dof: usize },
+    Rigid { tree_decomposable: bool },
+    ManyDof { dof: usize },
+    NotTreeDecomposable,
+}
+
+impl Outside {
+    /// A one-sentence reason naming the joints and bars involved.
+    pub fn describe(&self, linkage: &Linkage) -> String {
+        let names = |js: &[usize]| js.iter().map(|&j| linkage.names[j].as_str()).collect::<Vec<_>>().join(", ");
+        match self {
+            Outside::Disconnected { parts } => {
+                let list: Vec<String> = parts.iter().map(|p| format!("{{{}}}", names(p))).collect();
+                format!("disconnected: {} separate parts: {}", parts.len(), list.join(" "))
+            }
+            Outside::OverConstrained { redundant, dof } => {
+                let what: Vec<String> = redundant
+                    .iter()
+                    .map(|c| match *c {
+                        Constraint::Bar(i) => format!("bar {}", linkage.pair_name(linkage.bars[i].joints)),
+                        Constraint::Body(i) => format!("body [{}]", names(&linkage.bodies[i])),
+                    })
+                    .collect();
+                let rest = match dof {
+                    0 => "the rest is rigid".to_string(),
+                    1 => "1 degree of freedom remains".to_string(),
+                    d => format!("{d} degrees of freedom remain"),
+                };
+                format!("over-constrained: {} redundant ({rest})", what.join(", "))
+            }
+            Outside::Rigid { tree_decomposable: true } => "rigid: no motion (it is tree-decomposable)".to_string(),
+            Outside::Rigid { tree_decomposable: false } => {
+                "rigid: no motion, and not tree-decomposable (not buildable by ruler and compass)".to_string()
+            }
+            Outside::ManyDof { dof } => format!("{dof} degrees of freedom: a 1-dof linkage is needed"),
+            Outside::NotTreeDecomposable => {
+                "1 degree of freedom but not tree-decomposable: no base non-edge makes it buildable by ruler and compass"
+                    .to_string()
+            }
+        }
+    }
+
+    /// Short machine name for JSON.
+    pub fn kind(&self) -> &'static str {
+        match self {
+            Outside::Disconnected { .. } => "disconnected",
+            Outside::OverConstrained { .. } => "over_constrained",
+            Outside::Rigid { .. } => "rigid",
+            Outside::ManyDof { .. } => "many_dof",
+            Outside::NotTreeDecomposable => "not_tree_decomposable",
+        }
+    }
+}
+
+/// A requested base that cannot be used.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BaseError {
+    pub base: [usize; 2],
+    pub message: String,
+}
+
+/// Classify the linkage; on success its maximal clusters (merge tree included).
+pub fn classify(linkage: &Linkage) -> Result<ClusterSet, Outside> {
+    let parts = connected_parts(linkage);
+    if parts.len() > 1 {
+        return Err(Outside::Disconnected { parts });
+    }
+    let rig = rigidity(linkage);
+    if !rig.redundant.is_empty() {
+        return Err(Outside::OverConstrained { redundant: rig.redundant, dof: rig.dof });
+    }
+    let mut clusters = ClusterSet::initial(linkage);
+    clusters.merge_all();
+    match rig.dof {
+        0 => Err(Outside::Rigid { tree_decomposable: clusters.alive_ids().len() == 1 }),
+        1 => Ok(clusters),
+        dof => Err(Outside::ManyDof { dof }),
+    }
+}
+
+/// Construction steps from base `f`, or `None` if `f` is not a valid base.
+/// Each round merges the part built so far (which contains `f`) with two
+/// clusters sharing a joint; among the possible rounds the one whose base
+/// joints were placed earliest is taken, so the order is deterministic.
+pub fn steps_from_base(clusters: &ClusterSet, n_joints: usize, f: [usize; 2]) -> Option<Vec<Step>> {
+    let [a, b] = f;
+    if a == b || clusters.containing(a).any(|c| clusters.contains(c, b)) {
+        return None;
+    }
+    let mut set = clusters.clone();
+    let mut built = set.add(vec![a, b], Origin::Base);
+    let mut placed_at = vec![usize::MAX; n_joints];
+    placed_at[a] = 0;
+    placed_at[b] = 0;
+    let mut steps = Vec::new();
+    loop {
+        let mut best: Option<((usize, usize, usize), Step, Merge)> = None;
+        for &p in &set.nodes[built].joints {
+            for y in set.containing(p) {
+                if y == built {
+                    continue;
+                }
+                if set.shared(built, y) != [p] {
+                    return None; // shares two joints: over-constrained
+                }
+                for &q in &set.nodes[y].joints {
+                    if placed_at[q] != usize::MAX {
+                        continue;
+                    }
+                    for z in set.containing(q) {
+                        if z == y || z == built || set.shared(y, z) != [q] {
+                            continue;
+                        }
+                        let [r] = set.shared(built, z)[..] else { continue };
+                        let (mut u, mut w, mut cu, mut cw) = (p, r, y, z);
+                        let older = |s: usize, t: usize| (placed_at[s], s) < (placed_at[t], t);
+                        let on_base = (u == b && w == a) || (!(u == a && w == b) && older(w, u));
+                        if on_base {
+                            std::mem::swap(&mut u, &mut w);
+                            std::mem::swap(&mut cu, &mut cw);
+                        }
+                        let key = (placed_at[u].max(placed_at[w]), placed_at[u].min(placed_at[w]), q);
+                        if best.as_ref().is_none_or(|(k, _, _)| key < *k) {
+                            let step = Step { vertex: q, u, w, cluster_u: cu, cluster_w: cw };
+                            best = Some((key, step, Merge::Triangle { parts: [built, y, z], shared: [p, q, r] }));
+                        }
+                    }
+                }
+            }
+        }
+        let Some((_, step, merge)) = best else { break };
+        let placed = steps.len() + 1;
+        for &j in set.nodes[step.cluster_u].joints.iter().chain(&set.nodes[step.cluster_w].joints) {
+            if placed_at[j] == usize::MAX {
+                placed_at[j] = placed;
+            }
+        }
+        built = set.apply(merge);
+        steps.push(step);
+    }
+    (set.nodes[built].joints.len() == n_joints).then_some(steps)
+}
+
+/// Non-edges that could start a construction: `a` and `b` in two clusters
+/// that share a joint (the first step must be a triangle with them), not
+/// already in a common cluster. Ordered by preference: a base from a ground
+/// joint to a joint clustered with the other ground joint (the crank
+/// parameter), then any base touching the ground, then the rest by index.
+pub fn base_candidates(clusters: &ClusterSet, linkage: &Linkage) -> Vec<[usize; 2]> {
+    let mut seen = HashSet::new();
+    let mut out = Vec::new();
+    for v in 0..linkage.n_joints() {
+        let around: Vec<usize> = clusters.containing(v).collect();
+        for (i, &y) in around.iter().enumerate() {
+            for &z in &around[i + 1..] {
+                if clusters.shared(y, z) != [v] {
+                    continue;
+                }
+                for &a in &clusters.nodes[y].joints {
+                    for &b in &clusters.nodes[z].joints {
+                        if a == v || b == v || clusters.containing(a).any(|c| clusters.contains(c, b)) {
+                            continue;
+                        }
+                        let pair = [a.min(b), a.max(b)];
+                        if seen.insert(pair) {
+                            out.push(pair);
+                        }
+                    }
+                }
+            }
+        }
+    }
+    let ground = &linkage.ground;
+    let clustered = |x: usize, y: usize| clusters.containing(x).any(|c| clusters.contains(c, y));
+    let rank = |&[a, b]: &[usize; 2]| -> usize {
+        let crank = |g: usize, t: usize| ground.contains(&g) && ground.iter().any(|&h| h != g && clustered(h, t));
+        if crank(a, b) || crank(b, a) {
+            0
+        } else if ground.contains(&a) || ground.contains(&b) {
+            1
+        } else {
+            2
+        }
+    };
+    out.sort_by_key(|p| (rank(p), *p));
+    out
+}
+
+/// Recognise the class and build the construction from the requested base,
+/// or from the preferred valid base.
+pub fn decompose(linkage: &Linkage, requested: Option<[usize; 2]>) -> Result<Result<Decomposition, BaseError>, Outside> {
+    let clusters = classify(linkage)?;
+    let n = linkage.n_joints();
+    let candidates = base_candidates(&clusters, linkage);
+    let mut valid: Vec<([usize; 2], Vec<Step>)> = Vec::new();
+    // Listing other bases is a courtesy; cap the work on very large scenes.
+    for &f in candidates.iter().take(4096) {
+        if let Some(steps) = steps_from_base(&clusters, n, f) {
+            valid.push((f, steps));
+            if valid.len() > MAX_OTHER_BASES {
+                break;
+            }
+        }
+    }
+    if valid.is_empty() {
+        return Err(Outside::NotTreeDecomposable);
+    }
+    let (base, steps, base_chosen) = match requested {
+        Some(f) => match steps_from_base(&clusters, n, f) {
+            Some(steps) => (f, steps, false),
+            None => {
+                let why = if clusters.containing(f[0]).any(|c| clusters.contains(c, f[1])) {
+                    "its joints are already held rigidly together"
+                } else {
+                    "adding it as a bar does not make the linkage buildable by ruler and compass"
+                };
+                let list: Vec<String> = valid.iter().map(|(g, _)| linkage.pair_name(*g)).collect();
+                return Ok(Err(BaseError {
+                    base: f,
+                    message: format!(
+                        "base {} is not a valid base non-edge: {why}; valid bases: {}",
+                        linkage.pair_name(f),
+                        list.join(", ")
+                    ),
+                }));
+            }
+        },
+        None => (valid[0].0, valid[0].1.clone(), true),
+    };
+    let same = |g: &[usize; 2]| (g[0] == base[0] && g[1] == base[1]) || (g[0] == base[1] && g[1] == base[0]);
+    let other_bases = valid.iter().map(|(g, _)| *g).filter(|g| !same(g)).take(MAX_OTHER_BASES).collect();
+    Ok(Ok(Decomposition { clusters, base, steps, other_bases, base_chosen }))
+}

@@ -1,0 +1,100 @@
+//! The linkage a scene states: joints, bars with their lengths, rigid bodies.
+//! Derived once from a [`Scene`]; the solver never looks at TOML again.
+
+use crate::scene::Scene;
+
+/// A bar with its length (stated, or the drawn distance).
+#[derive(Debug, Clone, PartialEq)]
+pub struct LinkBar {
+    pub joints: [usize; 2],
+    pub length: f64,
+    /// Difference stated − drawn length (zero when the length is not stated).
+    pub sketch_error: f64,
+}
+
+#[derive(Debug, Clone)]
+pub struct Linkage {
+    pub names: Vec<String>,
+    /// Positions as drawn (y up).
+    pub drawn: Vec<[f64; 2]>,
+    pub bars: Vec<LinkBar>,
+    pub bodies: Vec<Vec<usize>>,
+    pub ground: Vec<usize>,
+    /// Largest bar length or body span: the unit all tolerances are relative to.
+    pub scale: f64,
+}
+
+pub fn dist(p: [f64; 2], q: [f64; 2]) -> f64 {
+    (q[0] - p[0]).hypot(q[1] - p[1])
+}
+
+impl Linkage {
+    pub fn from_scene(scene: &Scene) -> Linkage {
+        let drawn: Vec<[f64; 2]> = scene.joints.iter().map(|j| j.pos).collect();
+        let bars: Vec<LinkBar> = scene
+            .bars
+            .iter()
+            .map(|b| {
+                let d = dist(drawn[b.joints[0]], drawn[b.joints[1]]);
+                let length = b.length.unwrap_or(d);
+                LinkBar { joints: b.joints, length, sketch_error: length - d }
+            })
+            .collect();
+        let bodies: Vec<Vec<usize>> = scene.bodies.iter().map(|b| b.joints.clone()).collect();
+        let mut scale = bars.iter().map(|b| b.length).fold(0.0, f64::max);
+        for body in &bodies {
+            for (i, &p) in body.iter().enumerate() {
+                for &q in &body[i + 1..] {
+                    scale = scale.max(dist(drawn[p], drawn[q]));
+                }
+            }
+        }
+        if scale <= 0.0 || !scale.is_finite() {
+            scale = 1.0;
+        }
+        Linkage {
+            names: scene.joints.iter().map(|j| j.name.clone()).collect(),
+            drawn,
+            bars,
+            bodies,
+            ground: scene.ground.clone(),
+            scale,
+        }
+    }
+
+    pub fn n_joints(&self) -> usize {
+        self.names.len()
+    }
+
+    /// The bar between `p` and `q`, if any.
+    pub fn bar_between(&self, p: usize, q: usize) -> Option<&LinkBar> {
+        self.bars.iter().find(|b| b.joints == [p, q] || b.joints == [q, p])
+    }
+
+    /// `A–B` for display.
+    pub fn pair_name(&self, [p, q]: [usize; 2]) -> String {
+        format!("{}–{}", self.names[p], self.names[q])
+    }
+
+    /// The constraint graph as edges: each bar, and each body as a minimally
+    /// rigid fan (2k − 3 edges), each tagged with the bar or body it came from.
+    pub fn constraint_edges(&self) -> Vec<([usize; 2], Constraint)> {
+        let mut edges: Vec<([usize; 2], Constraint)> =
+            self.bars.iter().enumerate().map(|(i, b)| (b.joints, Constraint::Bar(i))).collect();
+        for (i, body) in self.bodies.iter().enumerate() {
+            edges.push(([body[0], body[1]], Constraint::Body(i)));
+            for &j in &body[2..] {
+                edges.push(([body[0], j], Constraint::Body(i)));
+                edges.push(([body[1], j], Constraint::Body(i)));
+            }
+        }
+        edges
+    }
+}
+
+/// Where a constraint edge comes from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Constraint {
+    Bar(usize),
+    Body(usize),
+}

@@ -1,0 +1,354 @@
+//! Realizations: from (λ, type) to joint positions in O(n) by ruler and
+//! compass, generic over the scalar type so the same code runs in f64,
+//! double-double and jets.
+//!
+//! Frame: base joint `a` at (0, 0), `b` at (λ, 0). Orientation of step k is `+`
+//! when its vertex lies left of the directed line u_k → w_k (y up).
+
+use std::fmt;
+
+use crate::decompose::{ClusterSet, Decomposition, Origin};
+use crate::linkage::Linkage;
+use crate::real::Real;
+use crate::tolerance;
+
+pub type P2<T> = [T; 2];
+
+fn sub<T: Real>(p: P2<T>, q: P2<T>) -> P2<T> {
+    [p[0] - q[0], p[1] - q[1]]
+}
+fn dot<T: Real>(p: P2<T>, q: P2<T>) -> T {
+    p[0] * q[0] + p[1] * q[1]
+}
+fn cross<T: Real>(p: P2<T>, q: P2<T>) -> T {
+    p[0] * q[1] - p[1] * q[0]
+}
+fn norm<T: Real>(p: P2<T>) -> T {
+    T::hypot(p[0], p[1])
+}
+
+/// A realization type: one orientation bit per step, `true` = `+`.
+#[derive(Clone, PartialEq, Eq, Hash, PartialOrd, Ord, Debug)]
+pub struct RealizationType(pub Vec<bool>);
+
+impl RealizationType {
+    pub fn parse(text: &str) -> Option<Self> {
+        text.chars()
+            .map(|c| match c {
+                '+' => Some(true),
+                '-' => Some(false),
+                _ => None,
+            })
+            .collect::<Option<Vec<bool>>>()
+            .map(RealizationType)
+    }
+    /// The type with bit `i` flipped.
+    pub fn flipped(&self, i: usize) -> Self {
+        let mut bits = self.0.clone();
+        bits[i] = !bits[i];
+        RealizationType(bits)
+    }
+}
+
+impl fmt::Display for RealizationType {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        for &b in &self.0 {
+            f.write_str(if b { "+" } else { "-" })?;
+        }
+        Ok(())
+    }
+}
+
+/// A cluster joint placed from a step's frame (p, q): `j = p + α(q−p) + β·perp(q−p)`.
+#[derive(Debug, Clone)]
+pub struct Member<T> {
+    pub joint: usize,
+    pub alpha: T,
+    pub beta: T,
+}
+
+/// One step's fixed geometry.
+#[derive(Debug, Clone)]
+pub struct StepGeom<T> {
+    pub vertex: usize,
+    pub u: usize,
+    pub w: usize,
+    /// |u v| inside the cluster on u.
+    pub r1: T,
+    /// |w v| inside the cluster on w.
+    pub r2: T,
+    /// Other joints of the cluster on u, placed from (u, v); likewise for w.
+    pub members_u: Vec<Member<T>>,
+    pub members_w: Vec<Member<T>>,
+}
+
+/// The construction with every length computed in `T` from the scene's numbers.
+#[derive(Debug, Clone)]
+pub struct Construction<T> {
+    pub n_joints: usize,
+    pub base: [usize; 2],
+    pub steps: Vec<StepGeom<T>>,
+    /// Scene scale (see [`crate::tolerance`]).
+    pub scale: f64,
+}
+
+/// Why a (λ, type) has no realization.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Unrealizable {
+    /// Step `step`'s triangle cannot close: slack (negative) in scene units.
+    Infeasible { step: usize, slack: f64 },
+    /// Step `step`'s base joints coincide: its vertex is undetermined.
+    Degenerate { step: usize },
+}
+
+/// The stated lengths cannot form a cluster (a sketch whose numbers contradict).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ShapeError(pub String);
+
+/// Slack of a step: ≥ 0 iff the triangle (r1, r2, d) closes; zero when flat.
+pub fn slack<T: Real>(r1: T, r2: T, d: T) -> T {
+    let stretch = r1 + r2 - d;
+    let fold = d - (r1 - r2).abs();
+    if stretch < fold { stretch } else { fold }
+}
+
+/// Apex of the triangle on the directed base `pu → pw` with sides `r1` from
+/// `pu` and `r2` from `pw`, left of the base when `plus`. The height uses the
+/// cancellation-free product h² = (r1+r2+d)(r1+r2−d)(d−|r1−r2|)(d+|r1−r2|)/(4d²).
+/// A slack down to `-tol` is clamped to a flat triangle; below, `Err(slack)`.
+pub fn apex<T: Real>(pu: P2<T>, pw: P2<T>, r1: T, r2: T, plus: bool, tol: f64) -> Result<P2<T>, Option<f64>> {
+    let e = sub(pw, pu);
+    let d = norm(e);
+    if !(d > T::zero()) {
+        return Err(None);
+    }
+    let stretch = r1 + r2 - d;
+    let fold = d - (r1 - r2).abs();
+    let s = if stretch < fold { stretch } else { fold };
+    if s.to_f64() < -tol {
+        return Err(Some(s.to_f64()));
+    }
+    let zero = T::zero();
+    let clamp = |x: T| if x < zero { zero } else { x };
+    let h2 = (r1 + r2 + d) * clamp(stretch) * clamp(fold) * (d + (r1 - r2).abs()) / (T::from_f64(4.0) * d * d);
+    let h = h2.sqrt();
+    let along = (d + (r1 - r2) * (r1 + r2) / d) / T::from_f64(2.0);
+    let (ex, ey) = (e[0] / d, e[1] / d);
+    let h = if plus { h } else { -h };
+    Ok([pu[0] + along * ex - h * ey, pu[1] + along * ey + h * ex])
+}
+
+/// Maps `x` rigidly (rotation + translation, never a reflection) so that the
+/// local points `p0`, `p1` go to `q0`, `q1` (assumed at the same distance).
+fn rigid_map<T: Real>(p0: P2<T>, p1: P2<T>, q0: P2<T>, q1: P2<T>) -> impl Fn(P2<T>) -> P2<T> {
+    let (a, b) = (sub(p1, p0), sub(q1, q0));
+    let n = norm(a) * norm(b);
+    let (c, s) = (dot(a, b) / n, cross(a, b) / n);
+    move |x: P2<T>| {
+        let r = sub(x, p0);
+        [q0[0] + c * r[0] - s * r[1], q0[1] + s * r[0] + c * r[1]]
+    }
+}
+
+type Shape<T> = Vec<(usize, P2<T>)>;
+
+fn shape_pos<T: Real>(shape: &Shape<T>, joint: usize) -> P2<T> {
+    shape.iter().find(|(j, _)| *j == joint).map(|&(_, p)| p).expect("joint in cluster shape")
+}
+
+/// Local coordinates of every cluster, computed up the merge tree from bar
+/// lengths and body shapes; each triangle of clusters takes its orientation
+/// from the drawing.
+fn cluster_shapes<T: Real>(linkage: &Linkage, clusters: &ClusterSet) -> Result<Vec<Shape<T>>, ShapeError> {
+    let mut shapes: Vec<Shape<T>> = Vec::with_capacity(clusters.nodes.len());
+    for node in &clusters.nodes {
+        let shape = match &node.origin {
+            Origin::Bar(i) => {
+                let bar = &linkage.bars[*i];
+                let l = T::from_f64(bar.length);
+                vec![(bar.joints[0], [T::zero(), T::zero()]), (bar.joints[1], [l, T::zero()])]
+            }
+            Origin::Body(i) => linkage.bodies[*i]
+                .iter()
+                .map(|&j| (j, [T::from_f64(linkage.drawn[j][0]), T::from_f64(linkage.drawn[j][1])]))
+                .collect(),
+            Origin::Base => Vec::new(),
+            Origin::Triangle { parts, shared: [p, q, r] } => {
+                // parts[0] ∋ r, p; parts[1] ∋ p, q; parts[2] ∋ q, r.
+                let side = |c: usize, x: usize, y: usize| norm(sub(shape_pos(&shapes[c], x), shape_pos(&shapes[c], y)));
+                let (pq, qr, rp) = (side(parts[1], *p, *q), side(parts[2], *q, *r), side(parts[0], *r, *p));
+                let dr = |j: usize| linkage.drawn[j];
+                let drawn_cross = cross(sub(dr(*q), dr(*p)), sub(dr(*r), dr(*p)));
+                let tp = [T::zero(), T::zero()];
+                let tq = [pq, T::zero()];
+                let tr = apex(tp, tq, rp, qr, drawn_cross >= 0.0, tolerance::FEASIBLE * linkage.scale).map_err(|_| {
+                    let n = &linkage.names;
+                    ShapeError(format!(
+                        "the stated lengths cannot close the triangle {}, {}, {} ({:.6}, {:.6}, {:.6})",
+                        n[*p],
+                        n[*q],
+                        n[*r],
+                        pq.to_f64(),
+                        qr.to_f64(),
+                        rp.to_f64()
+                    ))
+                })?;
+                let mut out: Shape<T> = Vec::new();
+                for (c, x, y, tx, ty) in [(parts[0], *r, *p, tr, tp), (parts[1], *p, *q, tp, tq), (parts[2], *q, *r, tq, tr)] {
+                    let map = rigid_map(shape_pos(&shapes[c], x), shape_pos(&shapes[c], y), tx, ty);
+                    for &(j, pos) in &shapes[c] {
+                        if !out.iter().any(|(k, _)| *k == j) {
+                            out.push((j, map(pos)));
+                        }
+                    }
+                }
+                out
+            }
+            Origin::Overlap { .. } => {
+                return Err(ShapeError("over-constrained clusters have no consistent shape".into()));
+            }
+        };
+        shapes.push(shape);
+    }
+    Ok(shapes)
+}
+
+impl<T: Real> Construction<T> {
+    /// Fix every step's lengths and member placements.
+    pub fn new(linkage: &Linkage, dec: &Decomposition) -> Result<Self, ShapeError> {
+        let shapes = cluster_shapes::<T>(linkage, &dec.clusters)?;
+        let members = |c: usize, pivot: usize, apex_joint: usize| -> (T, Vec<Member<T>>) {
+            let (p, q) = (shape_pos(&shapes[c], pivot), shape_pos(&shapes[c], apex_joint));
+            let e = sub(q, p);
+            let e2 = dot(e, e);
+            let list = shapes[c]
+                .iter()
+                .filter(|(j, _)| *j != pivot && *j != apex_joint)
+                .map(|&(joint, pos)| {
+                    let r = sub(pos, p);
+                    Member { joint, alpha: dot(r, e) / e2, beta: cross(e, r) / e2 }
+                })
+                .collect();
+            (norm(e), list)
+        };
+        let steps = dec
+            .steps
+            .iter()
+            .map(|s| {
+                let (r1, members_u) = members(s.cluster_u, s.u, s.vertex);
+                let (r2, members_w) = members(s.cluster_w, s.w, s.vertex);
+                StepGeom { vertex: s.vertex, u: s.u, w: s.w, r1, r2, members_u, members_w }
+            })
+            .collect();
+        Ok(Construction { n_joints: linkage.n_joints(), base: dec.base, steps, scale: linkage.scale })
+    }
+
+    /// All joint positions at base length `lambda` in type `ty`, in the base
+    /// frame. Slack down to −[`tolerance::FEASIBLE`]·scale counts as flat.
+    pub fn realize(&self, lambda: T, ty: &RealizationType) -> Result<Vec<P2<T>>, Unrealizable> {
+        self.realize_prefix(lambda, ty, self.steps.len())
+    }
+
+    /// Like [`Self::realize`] but only the first `upto` steps; joints of later
+    /// steps are left at the origin.
+    pub fn realize_prefix(&self, lambda: T, ty: &RealizationType, upto: usize) -> Result<Vec<P2<T>>, Unrealizable> {
+        let zero = T::zero();
+        let mut pos = vec![[zero, zero]; self.n_joints];
+        pos[self.base[1]] = [lambda, zero];
+        let tol = tolerance::FEASIBLE * self.scale;
+        for (k, s) in self.steps.iter().enumerate().take(upto) {
+            let v = apex(pos[s.u], pos[s.w], s.r1, s.r2, ty.0[k], tol).map_err(|e| match e {
+                Some(slack) => Unrealizable::Infeasible { step: k, slack },
+                None => Unrealizable::Degenerate { step: k },
+            })?;
+            pos[s.vertex] = v;
+            for (pivot, list) in [(s.u, &s.members_u), (s.w, &s.members_w)] {
+                let p = pos[pivot];
+                let e = sub(v, p);
+                for m in list {
+                    pos[m.joint] = [p[0] + m.alpha * e[0] - m.beta * e[1], p[1] + m.alpha * e[1] + m.beta * e[0]];
+                }
+            }
+        }
+        Ok(pos)
+    }
+
+    /// Base distance d_k = |u_k w_k| of step `k` in a realization (prefix).
+    pub fn base_distance(&self, pos: &[P2<T>], k: usize) -> T {
+        let s = &self.steps[k];
+        norm(sub(pos[s.w], pos[s.u]))
+    }
+}
+
+/// The drawn realization's (λ, type), and the steps that are flat in the drawing.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Drawn {
+    pub lambda: f64,
+    pub ty: RealizationType,
+    pub flat_steps: Vec<usize>,
+}
+
+pub fn drawn_realization(linkage: &Linkage, dec: &Decomposition) -> Drawn {
+    let p = &linkage.drawn;
+    let lambda = crate::linkage::dist(p[dec.base[0]], p[dec.base[1]]);
+    let mut flat_steps = Vec::new();
+    let bits = dec
+        .steps
+        .iter()
+        .enumerate()
+        .map(|(k, s)| {
+            let base = sub(p[s.w], p[s.u]);
+            let c = cross(base, sub(p[s.vertex], p[s.u]));
+            let height = c / norm(base).max(f64::MIN_POSITIVE);
+            if height.abs() <= tolerance::DRAWN_FLAT * linkage.scale {
+                flat_steps.push(k);
+            }
+            c >= 0.0
+        })
+        .collect();
+    Drawn { lambda, ty: RealizationType(bits), flat_steps }
+}
+
+/// The display frame: a rigid motion that keeps the ground joints where the
+/// scene drew them (one ground joint: it stays put and the base keeps its
+/// drawn direction).
+pub fn to_display(linkage: &Linkage, base: [usize; 2], pos: &[P2<f64>]) -> Vec<P2<f64>> {
+    let g = &linkage.ground;
+    let (r0, r1, d0, d1) = if g.len() >= 2 {
+        (pos[g[0]], pos[g[1]], linkage.drawn[g[0]], linkage.drawn[g[1]])
+    } else {
+        let anchor = g.first().copied().unwrap_or(base[0]);
+        let shift = |q: P2<f64>, o: P2<f64>, d: P2<f64>| [q[0] - o[0] + d[0], q[1] - o[1] + d[1]];
+        let (ra, rb) = (pos[base[0]], pos[base[1]]);
+        let (da, db) = (linkage.drawn[base[0]], linkage.drawn[base[1]]);
+        (pos[anchor], shift(rb, ra, pos[anchor]), linkage.drawn[anchor], shift(db, da, linkage.drawn[anchor]))
+    };
+    let (a, b) = (sub(r1, r0), sub(d1, d0));
+    let n = norm(a) * norm(b);
+    let (c, s) = if n > 0.0 { (dot(a, b) / n, cross(a, b) / n) } else { (1.0, 0.0) };
+    pos.iter()
+        .map(|&x| {
+            let r = sub(x, r0);
+            [d0[0] + c * r[0] - s * r[1], d0[1] + s * r[0] + c * r[1]]
+        })
+        .collect()
+}
+
+/// Largest |length − bar length| over all bars, and over all body edges
+/// against their drawn shape, in scene units.
+pub fn bar_residual(linkage: &Linkage, pos: &[P2<f64>]) -> f64 {
+    let mut worst: f64 = 0.0;
+    for bar in &linkage.bars {
+        let l = norm(sub(pos[bar.joints[1]], pos[bar.joints[0]]));
+        worst = worst.max((l - bar.length).abs());
+    }
+    for body in &linkage.bodies {
+        for (i, &p) in body.iter().enumerate() {
+            for &q in &body[i + 1..] {
+                let drawn = norm(sub(linkage.drawn[q], linkage.drawn[p]));
+                worst = worst.max((norm(sub(pos[q], pos[p])) - drawn).abs());
+            }
+        }
+    }
+    worst
+}
