@@ -7,6 +7,7 @@ pub mod builder;
 pub mod bundled;
 pub mod complexity;
 pub mod decompose;
+pub mod generate;
 pub mod linkage;
 pub mod real;
 pub mod realize;
