@@ -5,8 +5,13 @@
 //! Every error names the file and, where it applies, the line and column or the
 //! offending joint or bar. Parsing never panics.
 
+use std::collections::HashMap;
 use std::fmt;
+use std::ops::Range;
 use std::path::Path;
+
+use toml::Spanned;
+use toml::de::{DeArray, DeString, DeTable, DeValue};
 
 /// A joint as drawn: its name, position (y up) and the 1-based line it was declared on.
 #[derive(Debug, Clone, PartialEq)]
@@ -85,19 +90,763 @@ impl Scene {
 
     /// A line-anchored error about this scene.
     pub fn error_at(&self, line: Option<usize>, message: impl Into<String>) -> SceneError {
-        SceneError { file: self.source.clone(), line, column: None, message: message.into() }
+        SceneError {
+            file: self.source.clone(),
+            line,
+            column: None,
+            message: message.into(),
+        }
     }
 }
 
+/// The top-level keys a scene may use; anything else (such as a typo) is an error.
+const TOP_LEVEL_KEYS: [&str; 7] = [
+    "name",
+    "description",
+    "base",
+    "ground",
+    "bars",
+    "bodies",
+    "joints",
+];
+
+/// Two joints closer than this fraction of the drawing's bounding-box diagonal
+/// count as drawn at the same point.
+const SAME_POINT_TOLERANCE: f64 = 1e-12;
+
+/// A TOML value together with its byte span in the scene text.
+type Value<'i> = Spanned<DeValue<'i>>;
+
 /// Parse scene text. `source` names the file in errors; `default_name` is used
 /// when the file has no `name` key (callers pass the file stem).
+///
+/// Validated here: TOML syntax; only known top-level keys; the type of every
+/// value; joints (a non-empty `[joints]` table of finite `[x, y]` positions, no
+/// two at the same point); bars (at least one; two known, distinct joints; an
+/// optional positive finite length; no duplicates in either order); bodies (at
+/// least three known, distinct joints); the base (two known, distinct joints
+/// that are not a bar); the ground (one or two known, distinct joints).
+/// Connectivity and rigidity are left to the solver.
 pub fn parse_scene(text: &str, source: &str, default_name: &str) -> Result<Scene, SceneError> {
-    let _ = (text, source, default_name);
-    todo!("implemented by the scene parser work")
+    let doc = Doc::new(text, source);
+    let root = DeTable::parse(text).map_err(|e| doc.syntax_error(&e))?;
+    let table = root.get_ref();
+    if table.is_empty() {
+        return Err(doc.error(
+            None,
+            "the file is empty: a scene needs a [joints] table and a `bars` array",
+        ));
+    }
+    check_top_level_keys(&doc, table)?;
+
+    let name = match optional_string(&doc, table, "name")? {
+        Some(name) => name,
+        None => default_name.to_string(),
+    };
+    let description = optional_string(&doc, table, "description")?;
+    let joints = parse_joints(&doc, table.get("joints"))?;
+    check_distinct_positions(&doc, &joints)?;
+    let names = JointNames::new(&joints);
+    let bars = parse_bars(&doc, &names, table.get("bars"))?;
+    let bodies = parse_bodies(&doc, &names, table.get("bodies"))?;
+    let base = parse_base(&doc, &names, &bars, table.get("base"))?;
+    let ground = parse_ground(&doc, &names, &bars, table.get("ground"))?;
+
+    Ok(Scene {
+        name,
+        description,
+        source: source.to_string(),
+        joints,
+        bars,
+        bodies,
+        base,
+        ground,
+    })
 }
 
 /// Read and parse a scene file; non-UTF-8 bytes and I/O errors become [`SceneError`]s.
+/// The file stem is the scene's name when the file has no `name` key.
 pub fn load_scene(path: &Path) -> Result<Scene, SceneError> {
-    let _ = path;
-    todo!("implemented by the scene parser work")
+    let file = path.display().to_string();
+    let bytes = std::fs::read(path).map_err(|e| SceneError {
+        file: file.clone(),
+        line: None,
+        column: None,
+        message: format!("cannot read: {e}"),
+    })?;
+    let text = match String::from_utf8(bytes) {
+        Ok(text) => text,
+        Err(e) => return Err(not_utf8_error(&file, e.as_bytes(), e.utf8_error())),
+    };
+    let stem = path
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    parse_scene(&text, &file, &stem)
+}
+
+/// The error for a file that is not UTF-8, located at the first bad byte.
+fn not_utf8_error(file: &str, bytes: &[u8], error: std::str::Utf8Error) -> SceneError {
+    let offset = error.valid_up_to();
+    let valid = std::str::from_utf8(&bytes[..offset]).unwrap_or_default();
+    let doc = Doc::new(valid, file);
+    let bad = bytes.get(offset).copied().unwrap_or_default();
+    doc.error(
+        Some(offset),
+        format!("the file is not valid UTF-8 (byte 0x{bad:02X} at byte offset {offset})"),
+    )
+}
+
+// ---------------------------------------------------------------------------
+// Positions in the text and error construction
+
+/// The scene text being parsed: turns byte offsets into 1-based lines and
+/// columns (columns count characters) and builds errors located there.
+struct Doc<'a> {
+    text: &'a str,
+    file: &'a str,
+    /// Byte offset where each line starts.
+    line_starts: Vec<usize>,
+}
+
+impl<'a> Doc<'a> {
+    fn new(text: &'a str, file: &'a str) -> Self {
+        let line_starts = std::iter::once(0)
+            .chain(text.match_indices('\n').map(|(i, _)| i + 1))
+            .collect();
+        Doc {
+            text,
+            file,
+            line_starts,
+        }
+    }
+
+    /// 1-based line and character column of a byte offset (clamped into the text).
+    fn line_column(&self, offset: usize) -> (usize, usize) {
+        let mut offset = offset.min(self.text.len());
+        while !self.text.is_char_boundary(offset) {
+            offset -= 1;
+        }
+        let line = self.line_starts.partition_point(|&start| start <= offset);
+        let start = self.line_starts[line - 1];
+        let column = self.text[start..offset].chars().count() + 1;
+        (line, column)
+    }
+
+    /// 1-based line of the start of `span`.
+    fn line(&self, span: Range<usize>) -> usize {
+        self.line_column(span.start).0
+    }
+
+    /// The source text of `span`, as the user wrote it.
+    fn raw(&self, span: Range<usize>) -> &str {
+        self.text.get(span).unwrap_or("?").trim()
+    }
+
+    /// An error at a byte offset, or not tied to a place when `offset` is `None`.
+    fn error(&self, offset: Option<usize>, message: impl Into<String>) -> SceneError {
+        let (line, column) = match offset.map(|o| self.line_column(o)) {
+            Some((line, column)) => (Some(line), Some(column)),
+            None => (None, None),
+        };
+        SceneError {
+            file: self.file.to_string(),
+            line,
+            column,
+            message: one_line(&message.into()),
+        }
+    }
+
+    /// An error at the start of a spanned value.
+    fn error_at<T>(&self, value: &Spanned<T>, message: impl Into<String>) -> SceneError {
+        self.error(Some(value.span().start), message)
+    }
+
+    /// An error on a whole line (no column).
+    fn error_on_line(&self, line: usize, message: impl Into<String>) -> SceneError {
+        SceneError {
+            file: self.file.to_string(),
+            line: Some(line),
+            column: None,
+            message: one_line(&message.into()),
+        }
+    }
+
+    /// A TOML syntax error as one line: the parser's message, without the snippet.
+    fn syntax_error(&self, error: &toml::de::Error) -> SceneError {
+        let offset = error.span().map(|span| span.start);
+        self.error(offset, format!("TOML syntax error: {}", error.message()))
+    }
+}
+
+/// Collapses line breaks and other control characters so an error stays on one line.
+fn one_line(message: &str) -> String {
+    let words: Vec<&str> = message
+        .split(|c: char| c.is_control())
+        .map(str::trim)
+        .filter(|part| !part.is_empty())
+        .collect();
+    words.join("; ")
+}
+
+/// A name as shown inside labels such as `bar 3 (X–Q)`: as written, unless it
+/// contains control characters, which are escaped.
+fn shown(name: &str) -> String {
+    if name.chars().any(char::is_control) {
+        name.escape_debug().to_string()
+    } else {
+        name.to_string()
+    }
+}
+
+/// "a string", "an integer", ... for messages about a value of the wrong type.
+fn kind(value: &DeValue<'_>) -> &'static str {
+    match value {
+        DeValue::String(_) => "a string",
+        DeValue::Integer(_) => "an integer",
+        DeValue::Float(_) => "a float",
+        DeValue::Boolean(_) => "a boolean",
+        DeValue::Datetime(_) => "a date-time",
+        DeValue::Array(_) => "an array",
+        DeValue::Table(_) => "a table",
+    }
+}
+
+// ---------------------------------------------------------------------------
+// Top-level keys and scalars
+
+/// Every top-level key must be one of [`TOP_LEVEL_KEYS`]; a near miss gets a suggestion.
+fn check_top_level_keys(doc: &Doc, table: &DeTable) -> Result<(), SceneError> {
+    for (key, _) in table.iter() {
+        let key_name = key.get_ref().as_ref();
+        if TOP_LEVEL_KEYS.contains(&key_name) {
+            continue;
+        }
+        let lowercase = key_name.to_lowercase();
+        let hint = TOP_LEVEL_KEYS
+            .iter()
+            .map(|known| (edit_distance(known, &lowercase), known))
+            .filter(|&(distance, _)| distance <= 2)
+            .min()
+            .map(|(_, known)| format!(" (did you mean `{known}`?)"))
+            .unwrap_or_default();
+        return Err(doc.error_at(
+            key,
+            format!(
+                "unknown key `{}`{hint}; the allowed keys are {}",
+                shown(key_name),
+                TOP_LEVEL_KEYS.join(", ")
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// Levenshtein distance between two short strings.
+fn edit_distance(a: &str, b: &str) -> usize {
+    let b: Vec<char> = b.chars().collect();
+    let mut row: Vec<usize> = (0..=b.len()).collect();
+    for (i, ca) in a.chars().enumerate() {
+        let mut diagonal = row[0];
+        row[0] = i + 1;
+        for (j, &cb) in b.iter().enumerate() {
+            let substitution = diagonal + usize::from(ca != cb);
+            diagonal = row[j + 1];
+            row[j + 1] = substitution.min(row[j] + 1).min(row[j + 1] + 1);
+        }
+    }
+    row[b.len()]
+}
+
+/// An optional non-empty string value such as `name` or `description`.
+fn optional_string(doc: &Doc, table: &DeTable, key: &str) -> Result<Option<String>, SceneError> {
+    let Some(value) = table.get(key) else {
+        return Ok(None);
+    };
+    match value.get_ref() {
+        DeValue::String(s) if s.trim().is_empty() => {
+            Err(doc.error_at(value, format!("`{key}` must not be empty")))
+        }
+        DeValue::String(s) => Ok(Some(s.to_string())),
+        other => Err(doc.error_at(
+            value,
+            format!("`{key}` must be a string, found {}", kind(other)),
+        )),
+    }
+}
+
+/// A finite number (TOML integer or float). `what` names it in errors,
+/// e.g. `joint "A": x coordinate`. `-0` is read as `0`.
+fn finite_number(doc: &Doc, value: &Value, what: &str) -> Result<f64, SceneError> {
+    let raw = doc.raw(value.span());
+    let number = match value.get_ref() {
+        DeValue::Integer(int) => i64::from_str_radix(int.as_str(), int.radix())
+            .map_err(|_| doc.error_at(value, format!("{what} {raw} is out of range")))?
+            as f64,
+        DeValue::Float(float) => float.as_str().parse::<f64>().unwrap_or(f64::NAN),
+        other => {
+            return Err(doc.error_at(
+                value,
+                format!("{what} must be a number, found {}", kind(other)),
+            ));
+        }
+    };
+    if !number.is_finite() {
+        return Err(doc.error_at(
+            value,
+            format!("{what} must be a finite number, found {raw}"),
+        ));
+    }
+    Ok(number + 0.0)
+}
+
+/// The elements of an array value, or an error saying what was expected instead.
+fn array<'v, 'i>(
+    doc: &Doc,
+    value: &'v Value<'i>,
+    what: &str,
+    expected: &str,
+) -> Result<&'v DeArray<'i>, SceneError> {
+    match value.get_ref() {
+        DeValue::Array(items) => Ok(items),
+        other => Err(doc.error_at(
+            value,
+            format!("{what} must be {expected}, found {}", kind(other)),
+        )),
+    }
+}
+
+// ---------------------------------------------------------------------------
+// Joints
+
+/// Parses `[joints]`: a non-empty table of `NAME = [x, y]` with finite numbers,
+/// kept in file order. Each joint's line is the line of its name.
+fn parse_joints(doc: &Doc, value: Option<&Value>) -> Result<Vec<Joint>, SceneError> {
+    let Some(value) = value else {
+        return Err(doc.error(
+            None,
+            "missing [joints] table: list each joint as NAME = [x, y]",
+        ));
+    };
+    let DeValue::Table(table) = value.get_ref() else {
+        return Err(doc.error_at(
+            value,
+            format!(
+                "`joints` must be a table of NAME = [x, y], found {}",
+                kind(value.get_ref())
+            ),
+        ));
+    };
+    if table.is_empty() {
+        return Err(doc.error_at(value, "[joints] lists no joints"));
+    }
+    table
+        .iter()
+        .map(|(key, position)| {
+            parse_joint(doc, key, position).map_err(|error| misplaced_key_hint(error, key))
+        })
+        .collect()
+}
+
+/// A top-level key written after `[joints]` lands inside the table as a joint;
+/// when such a "joint" is invalid, say how to fix it.
+fn misplaced_key_hint(mut error: SceneError, key: &Spanned<DeString>) -> SceneError {
+    let name = key.get_ref().as_ref();
+    if TOP_LEVEL_KEYS.contains(&name) {
+        error.message += &format!(" (to set `{name}`, put it before the [joints] table)");
+    }
+    error
+}
+
+/// One joint: a non-empty name and a position `[x, y]` of two finite numbers.
+fn parse_joint(doc: &Doc, key: &Spanned<DeString>, value: &Value) -> Result<Joint, SceneError> {
+    let name = key.get_ref().as_ref();
+    if name.trim().is_empty() {
+        return Err(doc.error_at(key, "a joint name must not be empty"));
+    }
+    let what = format!("joint {name:?}");
+    let DeValue::Array(coords) = value.get_ref() else {
+        return Err(doc.error_at(
+            value,
+            format!(
+                "{what}: expected a position [x, y], found {}",
+                kind(value.get_ref())
+            ),
+        ));
+    };
+    let [x, y] = coords.as_ref() else {
+        return Err(doc.error_at(
+            value,
+            format!(
+                "{what}: expected a position [x, y] of 2 numbers, found {} element(s)",
+                coords.len()
+            ),
+        ));
+    };
+    let x = finite_number(doc, x, &format!("{what}: x coordinate"))?;
+    let y = finite_number(doc, y, &format!("{what}: y coordinate"))?;
+    Ok(Joint {
+        name: name.to_string(),
+        pos: [x, y],
+        line: doc.line(key.span()),
+    })
+}
+
+/// No two joints may be drawn at the same point: exactly equal, or within
+/// [`SAME_POINT_TOLERANCE`] × the drawing's bounding-box diagonal. The error
+/// is on the later joint's line. (Halved coordinates keep huge values from
+/// overflowing to infinity.)
+fn check_distinct_positions(doc: &Doc, joints: &[Joint]) -> Result<(), SceneError> {
+    let half = |j: &Joint| [j.pos[0] / 2.0, j.pos[1] / 2.0];
+    let mut low = [f64::INFINITY; 2];
+    let mut high = [f64::NEG_INFINITY; 2];
+    for joint in joints {
+        let p = half(joint);
+        for axis in 0..2 {
+            low[axis] = low[axis].min(p[axis]);
+            high[axis] = high[axis].max(p[axis]);
+        }
+    }
+    let tolerance = SAME_POINT_TOLERANCE * (high[0] - low[0]).hypot(high[1] - low[1]);
+    for (i, later) in joints.iter().enumerate() {
+        for earlier in &joints[..i] {
+            let (p, q) = (half(later), half(earlier));
+            if later.pos == earlier.pos || (p[0] - q[0]).hypot(p[1] - q[1]) <= tolerance {
+                return Err(doc.error_on_line(
+                    later.line,
+                    format!(
+                        "joint {:?} is drawn at the same point as joint {:?} (line {})",
+                        later.name, earlier.name, earlier.line
+                    ),
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Joint name → index, for resolving the names used by bars, bodies, base and ground.
+struct JointNames<'s> {
+    index: HashMap<&'s str, usize>,
+}
+
+impl<'s> JointNames<'s> {
+    fn new(joints: &'s [Joint]) -> Self {
+        let index = joints
+            .iter()
+            .enumerate()
+            .map(|(i, joint)| (joint.name.as_str(), i))
+            .collect();
+        JointNames { index }
+    }
+
+    /// The index of the joint named by `value`, which must be a string naming a
+    /// declared joint. `item` (e.g. `bar 3 (X–Q)`) prefixes the error.
+    fn resolve(&self, doc: &Doc, value: &Value, item: &str) -> Result<usize, SceneError> {
+        let DeValue::String(name) = value.get_ref() else {
+            return Err(doc.error_at(
+                value,
+                format!(
+                    "{item}: expected a joint name (a string), found {}",
+                    kind(value.get_ref())
+                ),
+            ));
+        };
+        self.index
+            .get(name.as_ref())
+            .copied()
+            .ok_or_else(|| doc.error_at(value, format!("{item}: unknown joint {name:?}")))
+    }
+}
+
+/// The joint names an array lists, as `A–B–C`; `None` when some element is
+/// not a string or the array is empty.
+fn joint_list(parts: &[Value]) -> Option<String> {
+    let names: Option<Vec<String>> = parts
+        .iter()
+        .map(|part| part.get_ref().as_str().map(shown))
+        .collect();
+    names
+        .filter(|names| !names.is_empty())
+        .map(|names| names.join("–"))
+}
+
+/// `prefix (A–B–C)` naming an item by the joints it lists, or just `prefix`
+/// when the joints cannot be shown.
+fn label(prefix: &str, parts: &[Value]) -> String {
+    match joint_list(parts) {
+        Some(list) => format!("{prefix} ({list})"),
+        None => prefix.to_string(),
+    }
+}
+
+// ---------------------------------------------------------------------------
+// Bars and bodies
+
+/// Parses `bars`: a non-empty array of `[A, B]` or `[A, B, length]`. Each bar
+/// joins two known, distinct joints; a stated length is a positive finite
+/// number; no two bars join the same pair of joints (in either order).
+fn parse_bars(
+    doc: &Doc,
+    names: &JointNames,
+    value: Option<&Value>,
+) -> Result<Vec<Bar>, SceneError> {
+    let Some(value) = value else {
+        return Err(doc.error(
+            None,
+            "no bars: add `bars = [[\"A\", \"B\"], ...]` before the [joints] table",
+        ));
+    };
+    let items = array(doc, value, "`bars`", "an array of bars like [\"A\", \"B\"]")?;
+    if items.is_empty() {
+        return Err(doc.error_at(value, "`bars` is empty: a scene needs at least one bar"));
+    }
+    let mut earlier: HashMap<[usize; 2], (usize, usize)> = HashMap::new();
+    let mut bars = Vec::with_capacity(items.len());
+    for (i, item) in items.iter().enumerate() {
+        let number = i + 1;
+        let bar = parse_bar(doc, names, number, item)?;
+        let [a, b] = bar.joints;
+        let pair = [a.min(b), a.max(b)];
+        if let Some((other, other_line)) = earlier.get(&pair) {
+            let item_label = label(&format!("bar {number}"), &items_of(item)[..2]);
+            return Err(doc.error_at(
+                item,
+                format!("{item_label}: duplicates bar {other} on line {other_line}"),
+            ));
+        }
+        earlier.insert(pair, (number, bar.line));
+        bars.push(bar);
+    }
+    Ok(bars)
+}
+
+/// The elements of an array value (empty for any other value).
+fn items_of<'v, 'i>(value: &'v Value<'i>) -> &'v [Value<'i>] {
+    match value.get_ref() {
+        DeValue::Array(items) => items,
+        _ => &[],
+    }
+}
+
+/// One bar, number `number` (1-based) in the `bars` array.
+fn parse_bar(
+    doc: &Doc,
+    names: &JointNames,
+    number: usize,
+    item: &Value,
+) -> Result<Bar, SceneError> {
+    let prefix = format!("bar {number}");
+    let parts = array(
+        doc,
+        item,
+        &prefix,
+        "an array [\"A\", \"B\"] or [\"A\", \"B\", length]",
+    )?;
+    let item_label = label(&prefix, &parts[..parts.len().min(2)]);
+    let (first, second, length) = match parts.as_ref() {
+        [a, b] => (a, b, None),
+        [a, b, length] => (a, b, Some(length)),
+        _ => {
+            return Err(doc.error_at(
+                item,
+                format!(
+                    "{item_label}: expected 2 joint names and an optional length, found {} element(s)",
+                    parts.len()
+                ),
+            ));
+        }
+    };
+    let a = names.resolve(doc, first, &item_label)?;
+    let b = names.resolve(doc, second, &item_label)?;
+    if a == b {
+        return Err(doc.error_at(
+            item,
+            format!("{item_label}: a bar cannot join a joint to itself"),
+        ));
+    }
+    let length = match length {
+        Some(value) => Some(positive_length(doc, value, &item_label)?),
+        None => None,
+    };
+    Ok(Bar {
+        joints: [a, b],
+        length,
+        line: doc.line(item.span()),
+    })
+}
+
+/// A stated bar length: a finite number greater than zero.
+fn positive_length(doc: &Doc, value: &Value, item_label: &str) -> Result<f64, SceneError> {
+    let length = finite_number(doc, value, &format!("{item_label}: length"))?;
+    if length <= 0.0 {
+        return Err(doc.error_at(
+            value,
+            format!(
+                "{item_label}: length must be positive, found {}",
+                doc.raw(value.span())
+            ),
+        ));
+    }
+    Ok(length)
+}
+
+/// Parses the optional `bodies`: an array of arrays of at least three known,
+/// distinct joints.
+fn parse_bodies(
+    doc: &Doc,
+    names: &JointNames,
+    value: Option<&Value>,
+) -> Result<Vec<Body>, SceneError> {
+    let Some(value) = value else {
+        return Ok(Vec::new());
+    };
+    let items = array(
+        doc,
+        value,
+        "`bodies`",
+        "an array of bodies like [\"A\", \"B\", \"C\"]",
+    )?;
+    items
+        .iter()
+        .enumerate()
+        .map(|(i, item)| parse_body(doc, names, i + 1, item))
+        .collect()
+}
+
+/// One body, number `number` (1-based) in the `bodies` array.
+fn parse_body(
+    doc: &Doc,
+    names: &JointNames,
+    number: usize,
+    item: &Value,
+) -> Result<Body, SceneError> {
+    let prefix = format!("body {number}");
+    let parts = array(
+        doc,
+        item,
+        &prefix,
+        "an array of joint names [\"A\", \"B\", \"C\", ...]",
+    )?;
+    let item_label = label(&prefix, parts);
+    if parts.len() < 3 {
+        return Err(doc.error_at(
+            item,
+            format!(
+                "{item_label}: a body needs at least 3 joints, found {}",
+                parts.len()
+            ),
+        ));
+    }
+    let joints = distinct_joints(doc, names, parts, &item_label)?;
+    Ok(Body {
+        joints,
+        line: doc.line(item.span()),
+    })
+}
+
+/// Resolves a list of joint names, rejecting unknown and repeated joints.
+fn distinct_joints(
+    doc: &Doc,
+    names: &JointNames,
+    parts: &[Value],
+    item_label: &str,
+) -> Result<Vec<usize>, SceneError> {
+    let mut joints = Vec::with_capacity(parts.len());
+    for part in parts {
+        let joint = names.resolve(doc, part, item_label)?;
+        if joints.contains(&joint) {
+            return Err(doc.error_at(
+                part,
+                format!(
+                    "{item_label}: joint {:?} is listed twice",
+                    part.get_ref().as_str().unwrap_or_default()
+                ),
+            ));
+        }
+        joints.push(joint);
+    }
+    Ok(joints)
+}
+
+// ---------------------------------------------------------------------------
+// Base and ground
+
+/// Parses the optional `base`: exactly two known, distinct joints that are not
+/// joined by a bar. Whether the non-edge is a valid base is the solver's call.
+fn parse_base(
+    doc: &Doc,
+    names: &JointNames,
+    bars: &[Bar],
+    value: Option<&Value>,
+) -> Result<Option<([usize; 2], usize)>, SceneError> {
+    let Some(value) = value else {
+        return Ok(None);
+    };
+    let parts = array(doc, value, "`base`", "two joint names like [\"P\", \"X\"]")?;
+    let item_label = match joint_list(parts) {
+        Some(list) => format!("base {list}"),
+        None => "base".to_string(),
+    };
+    if parts.len() != 2 {
+        return Err(doc.error_at(
+            value,
+            format!(
+                "{item_label}: the base must name exactly 2 joints, found {}",
+                parts.len()
+            ),
+        ));
+    }
+    let a = names.resolve(doc, &parts[0], &item_label)?;
+    let b = names.resolve(doc, &parts[1], &item_label)?;
+    if a == b {
+        return Err(doc.error_at(
+            value,
+            format!("{item_label}: the two joints must be different"),
+        ));
+    }
+    if let Some((i, bar)) = bars
+        .iter()
+        .enumerate()
+        .find(|(_, bar)| bar.joints == [a, b] || bar.joints == [b, a])
+    {
+        return Err(doc.error_at(
+            value,
+            format!(
+                "{item_label} is a bar; the base must be a non-edge (bar {} on line {})",
+                i + 1,
+                bar.line
+            ),
+        ));
+    }
+    Ok(Some(([a, b], doc.line(value.span()))))
+}
+
+/// Parses the optional `ground`: one or two known, distinct joints. Without it
+/// the first bar's two joints are held still.
+fn parse_ground(
+    doc: &Doc,
+    names: &JointNames,
+    bars: &[Bar],
+    value: Option<&Value>,
+) -> Result<Vec<usize>, SceneError> {
+    let Some(value) = value else {
+        return Ok(bars
+            .first()
+            .map(|bar| bar.joints.to_vec())
+            .unwrap_or_default());
+    };
+    let parts = array(
+        doc,
+        value,
+        "`ground`",
+        "one or two joint names like [\"O\", \"P\"]",
+    )?;
+    if !(1..=2).contains(&parts.len()) {
+        return Err(doc.error_at(
+            value,
+            format!("ground must name 1 or 2 joints, found {}", parts.len()),
+        ));
+    }
+    distinct_joints(doc, names, parts, "ground")
 }
