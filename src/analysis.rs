@@ -3,10 +3,12 @@
 
 use std::time::Instant;
 
-use crate::complexity::{four_cycle_test, Complexity};
-use crate::decompose::{decompose, Decomposition, Outside};
+use crate::cayley_space::{CayleySpace, Method, Note, cayley_space, union};
+use crate::complexity::{Complexity, four_cycle_test};
+use crate::decompose::{Decomposition, Outside, decompose};
 use crate::linkage::Linkage;
-use crate::realize::{bar_residual, drawn_realization, to_display, Construction, Drawn, P2, Unrealizable};
+use crate::real::{Dd, Jet, Real};
+use crate::realize::{Construction, Drawn, P2, Unrealizable, bar_residual, drawn_realization, to_display};
 use crate::scene::{Scene, SceneError};
 
 /// Wall-clock time of each phase, in microseconds (for the report; never asserted).
@@ -31,6 +33,20 @@ pub struct SketchFit {
     pub max_joint_move: f64,
 }
 
+/// How the f64 endpoints compare with the double-double reference run.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Accuracy {
+    /// Largest |λ_f64 − λ_reference| over all endpoints, in scene units.
+    pub max_endpoint_error: f64,
+    /// The same relative to the scene scale.
+    pub max_relative_error: f64,
+    /// Whether both runs found the same intervals (same types, same count).
+    pub same_structure: bool,
+}
+
+/// Scenes with more types than this skip the reference run in `analyse`.
+pub const REFERENCE_MAX_TYPES: usize = 1 << 12;
+
 /// A scene recognised as 1-dof tree-decomposable.
 #[derive(Debug, Clone)]
 pub struct Solved {
@@ -41,6 +57,44 @@ pub struct Solved {
     /// The drawn realization in the display frame (the drawing itself unless a sketch).
     pub drawn_positions: Option<Vec<P2<f64>>>,
     pub sketch: Option<SketchFit>,
+    pub space: CayleySpace<f64>,
+    /// The non-oriented Cayley configuration space.
+    pub union: Vec<[f64; 2]>,
+    /// Against the double-double reference (`None` when skipped for size).
+    pub accuracy: Option<Accuracy>,
+}
+
+/// Compute the Cayley space in double-double and compare it with `space`.
+pub fn reference_accuracy(
+    linkage: &Linkage,
+    dec: &Decomposition,
+    cx: &Complexity,
+    space: &CayleySpace<f64>,
+) -> Option<Accuracy> {
+    let con = Construction::<Dd>::new(linkage, dec).ok()?;
+    let jet = Construction::<Jet<Dd>>::new(linkage, dec).ok()?;
+    let reference = cayley_space(&con, jet, dec, cx, space.method);
+    let same_structure = reference.intervals.len() == space.intervals.len()
+        && reference.intervals.iter().zip(&space.intervals).all(|(r, f)| r.ty == f.ty);
+    let mut worst: f64 = 0.0;
+    if same_structure {
+        for (r, f) in reference.intervals.iter().zip(&space.intervals) {
+            for (x, y) in [(r.lower.lambda, f.lower.lambda), (r.upper.lambda, f.upper.lambda)] {
+                worst = worst.max((x - Dd::new(y)).to_f64().abs());
+            }
+        }
+    }
+    Some(Accuracy { max_endpoint_error: worst, max_relative_error: worst / linkage.scale, same_structure })
+}
+
+/// The λ of `ty` nearest to `lambda` (itself if realizable), from the type's intervals.
+pub fn nearest_attainable(space: &CayleySpace<f64>, ty: &crate::realize::RealizationType, lambda: f64) -> Option<f64> {
+    space
+        .intervals
+        .iter()
+        .filter(|i| &i.ty == ty)
+        .map(|i| lambda.clamp(i.lower.lambda, i.upper.lambda))
+        .min_by(|a, b| (a - lambda).abs().total_cmp(&(b - lambda).abs()))
 }
 
 #[derive(Debug, Clone)]
@@ -98,12 +152,42 @@ pub fn analyse(scene: Scene, base_override: Option<[usize; 2]>) -> Result<Analys
             linkage.names[s.w]
         ));
     }
+    let space = timings.time("cayley_space", || {
+        cayley_space(&construction, construction.convert::<Jet<f64>>(), &dec, &complexity, Method::Exact)
+    });
+    let union = union(&space.intervals, linkage.scale);
+    let accuracy = if space.intervals.len() <= REFERENCE_MAX_TYPES {
+        timings.time("reference", || reference_accuracy(&linkage, &dec, &complexity, &space))
+    } else {
+        None
+    };
+    if accuracy.as_ref().is_some_and(|a| !a.same_structure) {
+        warnings.push(
+            "the f64 and double-double runs found different intervals: some events are closer than f64 separates"
+                .to_string(),
+        );
+    }
+    let mut drawn = drawn;
     let realized = timings.time("realize", || construction.realize(drawn.lambda, &drawn.ty));
     let drawn_positions = match realized {
         Ok(pos) => Some(to_display(&linkage, dec.base, &pos)),
         Err(why) => {
-            warnings.push(describe_unrealizable(&linkage, &dec, &why, drawn.lambda, &drawn.ty.to_string()));
-            None
+            let attainable = nearest_attainable(&space, &drawn.ty, drawn.lambda);
+            let retry = attainable.and_then(|l| construction.realize(l, &drawn.ty).ok().map(|p| (l, p)));
+            match retry {
+                Some((l, pos)) if scene.is_sketch() => {
+                    warnings.push(format!(
+                        "the sketch's base length λ = {} is not attainable in its type {}; realized at the nearest attainable λ = {}",
+                        drawn.lambda, drawn.ty, l
+                    ));
+                    drawn.lambda = l;
+                    Some(to_display(&linkage, dec.base, &pos))
+                }
+                _ => {
+                    warnings.push(describe_unrealizable(&linkage, &dec, &why, drawn.lambda, &drawn.ty.to_string()));
+                    None
+                }
+            }
         }
     };
     let sketch = if scene.is_sketch() {
@@ -121,12 +205,19 @@ pub fn analyse(scene: Scene, base_override: Option<[usize; 2]>) -> Result<Analys
         }
         None
     };
-    let solved = Solved { dec, complexity, construction, drawn, drawn_positions, sketch };
+    warnings.extend(describe_notes(&linkage, &dec, &space.notes));
+    let solved = Solved { dec, complexity, construction, drawn, drawn_positions, sketch, space, union, accuracy };
     Ok(Analysis { scene, linkage, outcome: Ok(solved), warnings, timings })
 }
 
 /// A sentence saying why (λ, type) has no realization.
-pub fn describe_unrealizable(linkage: &Linkage, dec: &Decomposition, why: &Unrealizable, lambda: f64, ty: &str) -> String {
+pub fn describe_unrealizable(
+    linkage: &Linkage,
+    dec: &Decomposition,
+    why: &Unrealizable,
+    lambda: f64,
+    ty: &str,
+) -> String {
     let n = &linkage.names;
     match *why {
         Unrealizable::Infeasible { step, slack } => {
@@ -151,4 +242,52 @@ pub fn describe_unrealizable(linkage: &Linkage, dec: &Decomposition, why: &Unrea
             )
         }
     }
+}
+
+/// One warning per distinct special event, naming λ and the steps.
+pub fn describe_notes(linkage: &Linkage, dec: &Decomposition, notes: &[Note]) -> Vec<String> {
+    let step_name = |k: usize| {
+        let s = &dec.steps[k];
+        format!("step {} ({} ◁ ({}, {}))", k + 1, linkage.names[s.vertex], linkage.names[s.u], linkage.names[s.w])
+    };
+    let mut out: Vec<String> = Vec::new();
+    for note in notes {
+        let text = match note {
+            Note::Coincident { lambda, events } => {
+                let list: Vec<String> =
+                    events.iter().map(|e| format!("{} {}", step_name(e.step), e.kind.name())).collect();
+                format!(
+                    "non-generic: at λ = {lambda} several steps are flat at once: {}; the motion may branch there",
+                    list.join(", ")
+                )
+            }
+            Note::Tangency { lambda, event, inside: false } => format!(
+                "tangency: {} is {} only at the isolated point λ = {lambda}",
+                step_name(event.step),
+                event.kind.name()
+            ),
+            Note::Tangency { lambda, event, inside: true } => format!(
+                "tangency: {} touches {} at λ = {lambda} inside an interval without leaving it",
+                step_name(event.step),
+                event.kind.name()
+            ),
+            Note::Unresolved { lambda, step, detail } => {
+                format!("unresolved near λ = {lambda}, {}: {detail}", step_name(*step))
+            }
+            Note::ZeroBase { step } => format!(
+                "the base length reaches 0 ({} folded with equal bars): the base joints coincide there",
+                step_name(*step)
+            ),
+            Note::Degenerate { lambda, step } => format!(
+                "degenerate: for some types {} has its base joints coincide for λ in [{}, {}], so its vertex turns freely (an extra degree of freedom); those types are left out there",
+                step_name(*step),
+                lambda[0],
+                lambda[1]
+            ),
+        };
+        if !out.contains(&text) {
+            out.push(text);
+        }
+    }
+    out
 }

@@ -77,10 +77,7 @@ pub fn resolve(arg: Option<&str>) -> Result<Scene, SceneError> {
         file: arg.to_string(),
         line: None,
         column: None,
-        message: format!(
-            "no such file, and not the name of a bundled scene; {}",
-            bundled_list()
-        ),
+        message: format!("no such file, and not the name of a bundled scene; {}", bundled_list()),
     })
 }
 

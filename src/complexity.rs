@@ -16,9 +16,10 @@ pub enum PairOrigin {
     /// The two clusters of step `j`, hinged at its vertex.
     Step(usize),
     /// Step `j`'s cluster on side `u` (or `w`) and a built cluster `other`,
-    /// hinged at step j's `u` (or `w`), closed into a four-cycle through the
-    /// built pair that shares joint `far`.
-    FourCycle { step: usize, on_u: bool, other: usize, far: usize },
+    /// hinged at step j's `u` (or `w`), closed into a four-cycle through
+    /// `opposite` (holding step j's other base joint), which shares joint
+    /// `far` with `other`.
+    FourCycle { step: usize, on_u: bool, other: usize, opposite: usize, far: usize },
 }
 
 /// The valid pair that carries a step: clusters `tu ∋ u`, `tw ∋ w`, hinged at `x`.
@@ -91,12 +92,14 @@ pub fn four_cycle_test(linkage: &Linkage, dec: &Decomposition) -> Complexity {
                                     step: k,
                                     on_u: true,
                                     other: tu,
+                                    opposite: tw,
                                     far,
                                 });
                                 valid.entry(key(step.cluster_w, tw)).or_insert(PairOrigin::FourCycle {
                                     step: k,
                                     on_u: false,
                                     other: tw,
+                                    opposite: tu,
                                     far,
                                 });
                             }

@@ -16,9 +16,14 @@ pub enum Origin {
     Base,
     /// Three clusters pairwise sharing one joint: `shared[i]` is the joint
     /// shared by `parts[i]` and `parts[(i + 1) % 3]`.
-    Triangle { parts: [usize; 3], shared: [usize; 3] },
+    Triangle {
+        parts: [usize; 3],
+        shared: [usize; 3],
+    },
     /// Two clusters sharing two or more joints (only in over-constrained input).
-    Overlap { parts: [usize; 2] },
+    Overlap {
+        parts: [usize; 2],
+    },
 }
 
 #[derive(Debug, Clone)]
@@ -63,7 +68,8 @@ enum Merge {
 impl ClusterSet {
     /// One cluster per bar and per body.
     pub fn initial(linkage: &Linkage) -> ClusterSet {
-        let mut set = ClusterSet { nodes: Vec::new(), alive: Vec::new(), by_joint: vec![Vec::new(); linkage.n_joints()] };
+        let mut set =
+            ClusterSet { nodes: Vec::new(), alive: Vec::new(), by_joint: vec![Vec::new(); linkage.n_joints()] };
         for (i, bar) in linkage.bars.iter().enumerate() {
             set.add(bar.joints.to_vec(), Origin::Bar(i));
         }
@@ -488,7 +494,10 @@ pub fn base_candidates(clusters: &ClusterSet, linkage: &Linkage) -> Vec<[usize; 
 
 /// Recognise the class and build the construction from the requested base,
 /// or from the preferred valid base.
-pub fn decompose(linkage: &Linkage, requested: Option<[usize; 2]>) -> Result<Result<Decomposition, BaseError>, Outside> {
+pub fn decompose(
+    linkage: &Linkage,
+    requested: Option<[usize; 2]>,
+) -> Result<Result<Decomposition, BaseError>, Outside> {
     let clusters = classify(linkage)?;
     let n = linkage.n_joints();
     let candidates = base_candidates(&clusters, linkage);

@@ -5,9 +5,11 @@
 pub mod analysis;
 pub mod builder;
 pub mod bundled;
+pub mod cayley_space;
 pub mod complexity;
 pub mod decompose;
 pub mod generate;
+pub mod invert;
 pub mod linkage;
 pub mod real;
 pub mod realize;

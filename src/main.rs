@@ -34,6 +34,9 @@ enum Command {
         /// The base non-edge as two joint names, e.g. `--base P,X`.
         #[arg(long)]
         base: Option<String>,
+        /// List every oriented interval in the text report, however many.
+        #[arg(long)]
+        all: bool,
     },
     /// List the bundled scenes.
     List,
@@ -60,7 +63,7 @@ fn main() -> ExitCode {
             return ExitCode::from(code);
         }
     };
-    let command = cli.command.unwrap_or(Command::Report { scene: None, format: Format::Text, base: None });
+    let command = cli.command.unwrap_or(Command::Report { scene: None, format: Format::Text, base: None, all: false });
     match run(command) {
         Ok(code) => ExitCode::from(code),
         Err(f) => {
@@ -79,14 +82,14 @@ fn run(command: Command) -> Result<u8, Failure> {
             }
             Ok(0)
         }
-        Command::Report { scene, format, base } => {
+        Command::Report { scene, format, base, all } => {
             let scene = bundled::resolve(scene.as_deref())?;
             let base = base.map(|b| parse_base(&scene, &b)).transpose()?;
             let analysis = analyse(scene, base)?;
             let report = Report::new(&analysis);
             match format {
                 Format::Json => println!("{}", report.to_json()),
-                Format::Text => print!("{}", report.to_text()),
+                Format::Text => print!("{}", report.to_text_with(all)),
             }
             Ok(if report.one_dof_tree_decomposable { 0 } else { 2 })
         }

@@ -90,6 +90,8 @@ pub struct Construction<T> {
     pub steps: Vec<StepGeom<T>>,
     /// Scene scale (see [`crate::tolerance`]).
     pub scale: f64,
+    /// Local shape of every cluster node (indexed like `ClusterSet::nodes`).
+    pub shapes: Vec<Vec<(usize, P2<T>)>>,
 }
 
 /// Why a (λ, type) has no realization.
@@ -119,7 +121,7 @@ pub fn slack<T: Real>(r1: T, r2: T, d: T) -> T {
 pub fn apex<T: Real>(pu: P2<T>, pw: P2<T>, r1: T, r2: T, plus: bool, tol: f64) -> Result<P2<T>, Option<f64>> {
     let e = sub(pw, pu);
     let d = norm(e);
-    if !(d > T::zero()) {
+    if d.partial_cmp(&T::zero()) != Some(std::cmp::Ordering::Greater) {
         return Err(None);
     }
     let stretch = r1 + r2 - d;
@@ -156,6 +158,35 @@ fn shape_pos<T: Real>(shape: &Shape<T>, joint: usize) -> P2<T> {
     shape.iter().find(|(j, _)| *j == joint).map(|&(_, p)| p).expect("joint in cluster shape")
 }
 
+/// Converts one construction's numbers into another scalar type.
+impl Construction<f64> {
+    pub fn convert<U: Real>(&self) -> Construction<U> {
+        let c = |x: f64| U::from_f64(x);
+        let members = |list: &Vec<Member<f64>>| {
+            list.iter().map(|m| Member { joint: m.joint, alpha: c(m.alpha), beta: c(m.beta) }).collect()
+        };
+        Construction {
+            n_joints: self.n_joints,
+            base: self.base,
+            scale: self.scale,
+            steps: self
+                .steps
+                .iter()
+                .map(|s| StepGeom {
+                    vertex: s.vertex,
+                    u: s.u,
+                    w: s.w,
+                    r1: c(s.r1),
+                    r2: c(s.r2),
+                    members_u: members(&s.members_u),
+                    members_w: members(&s.members_w),
+                })
+                .collect(),
+            shapes: self.shapes.iter().map(|sh| sh.iter().map(|&(j, p)| (j, [c(p[0]), c(p[1])])).collect()).collect(),
+        }
+    }
+}
+
 /// Local coordinates of every cluster, computed up the merge tree from bar
 /// lengths and body shapes; each triangle of clusters takes its orientation
 /// from the drawing.
@@ -181,20 +212,23 @@ fn cluster_shapes<T: Real>(linkage: &Linkage, clusters: &ClusterSet) -> Result<V
                 let drawn_cross = cross(sub(dr(*q), dr(*p)), sub(dr(*r), dr(*p)));
                 let tp = [T::zero(), T::zero()];
                 let tq = [pq, T::zero()];
-                let tr = apex(tp, tq, rp, qr, drawn_cross >= 0.0, tolerance::FEASIBLE * linkage.scale).map_err(|_| {
-                    let n = &linkage.names;
-                    ShapeError(format!(
-                        "the stated lengths cannot close the triangle {}, {}, {} ({:.6}, {:.6}, {:.6})",
-                        n[*p],
-                        n[*q],
-                        n[*r],
-                        pq.to_f64(),
-                        qr.to_f64(),
-                        rp.to_f64()
-                    ))
-                })?;
+                let tr =
+                    apex(tp, tq, rp, qr, drawn_cross >= 0.0, tolerance::FEASIBLE * linkage.scale).map_err(|_| {
+                        let n = &linkage.names;
+                        ShapeError(format!(
+                            "the stated lengths cannot close the triangle {}, {}, {} ({:.6}, {:.6}, {:.6})",
+                            n[*p],
+                            n[*q],
+                            n[*r],
+                            pq.to_f64(),
+                            qr.to_f64(),
+                            rp.to_f64()
+                        ))
+                    })?;
                 let mut out: Shape<T> = Vec::new();
-                for (c, x, y, tx, ty) in [(parts[0], *r, *p, tr, tp), (parts[1], *p, *q, tp, tq), (parts[2], *q, *r, tq, tr)] {
+                for (c, x, y, tx, ty) in
+                    [(parts[0], *r, *p, tr, tp), (parts[1], *p, *q, tp, tq), (parts[2], *q, *r, tq, tr)]
+                {
                     let map = rigid_map(shape_pos(&shapes[c], x), shape_pos(&shapes[c], y), tx, ty);
                     for &(j, pos) in &shapes[c] {
                         if !out.iter().any(|(k, _)| *k == j) {
@@ -240,24 +274,48 @@ impl<T: Real> Construction<T> {
                 StepGeom { vertex: s.vertex, u: s.u, w: s.w, r1, r2, members_u, members_w }
             })
             .collect();
-        Ok(Construction { n_joints: linkage.n_joints(), base: dec.base, steps, scale: linkage.scale })
+        Ok(Construction { n_joints: linkage.n_joints(), base: dec.base, steps, scale: linkage.scale, shapes })
+    }
+
+    /// Position of `joint` in the local shape of cluster `cluster`.
+    pub fn local(&self, cluster: usize, joint: usize) -> P2<T> {
+        shape_pos(&self.shapes[cluster], joint)
+    }
+
+    /// Distance between two joints of one cluster.
+    pub fn cluster_distance(&self, cluster: usize, p: usize, q: usize) -> T {
+        norm(sub(self.local(cluster, q), self.local(cluster, p)))
+    }
+
+    /// (cos, sin) of the signed angle at `x` from `p − x` to `q − x` in a cluster's shape.
+    pub fn cluster_angle(&self, cluster: usize, x: usize, p: usize, q: usize) -> (T, T) {
+        let (a, b) =
+            (sub(self.local(cluster, p), self.local(cluster, x)), sub(self.local(cluster, q), self.local(cluster, x)));
+        let n = norm(a) * norm(b);
+        (dot(a, b) / n, cross(a, b) / n)
+    }
+
+    /// Whether step `k` stands directly on the base (its base distance is λ).
+    pub fn on_base(&self, k: usize) -> bool {
+        let s = &self.steps[k];
+        (s.u == self.base[0] && s.w == self.base[1]) || (s.u == self.base[1] && s.w == self.base[0])
     }
 
     /// All joint positions at base length `lambda` in type `ty`, in the base
     /// frame. Slack down to −[`tolerance::FEASIBLE`]·scale counts as flat.
     pub fn realize(&self, lambda: T, ty: &RealizationType) -> Result<Vec<P2<T>>, Unrealizable> {
-        self.realize_prefix(lambda, ty, self.steps.len())
+        self.realize_prefix(lambda, &ty.0, self.steps.len())
     }
 
-    /// Like [`Self::realize`] but only the first `upto` steps; joints of later
-    /// steps are left at the origin.
-    pub fn realize_prefix(&self, lambda: T, ty: &RealizationType, upto: usize) -> Result<Vec<P2<T>>, Unrealizable> {
+    /// Like [`Self::realize`] but only the first `upto` steps (`bits` needs at
+    /// least that many); joints of later steps are left at the origin.
+    pub fn realize_prefix(&self, lambda: T, bits: &[bool], upto: usize) -> Result<Vec<P2<T>>, Unrealizable> {
         let zero = T::zero();
         let mut pos = vec![[zero, zero]; self.n_joints];
         pos[self.base[1]] = [lambda, zero];
         let tol = tolerance::FEASIBLE * self.scale;
         for (k, s) in self.steps.iter().enumerate().take(upto) {
-            let v = apex(pos[s.u], pos[s.w], s.r1, s.r2, ty.0[k], tol).map_err(|e| match e {
+            let v = apex(pos[s.u], pos[s.w], s.r1, s.r2, bits[k], tol).map_err(|e| match e {
                 Some(slack) => Unrealizable::Infeasible { step: k, slack },
                 None => Unrealizable::Degenerate { step: k },
             })?;

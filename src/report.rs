@@ -25,6 +25,39 @@ pub struct DrawnReport {
 }
 
 #[derive(Debug, Clone, Serialize)]
+pub struct EventReport {
+    /// Index into `steps`.
+    pub step: usize,
+    pub vertex: String,
+    /// `stretched` or `folded`.
+    pub kind: &'static str,
+}
+
+#[derive(Debug, Clone, Serialize)]
+pub struct IntervalReport {
+    #[serde(rename = "type")]
+    pub ty: String,
+    pub lower: f64,
+    pub upper: f64,
+    /// The flat step at each end (the first, when several are flat at once).
+    pub lower_event: Option<EventReport>,
+    pub upper_event: Option<EventReport>,
+    /// Every flat step at each end (more than one only in non-generic scenes).
+    pub lower_events: Vec<EventReport>,
+    pub upper_events: Vec<EventReport>,
+}
+
+#[derive(Debug, Clone, Serialize)]
+pub struct AccuracyReport {
+    pub reference: &'static str,
+    /// Largest |λ − λ_reference| over all endpoints, in scene units.
+    pub max_endpoint_error_estimate: f64,
+    /// The same divided by the scene scale.
+    pub max_relative_error_estimate: f64,
+    pub same_structure: bool,
+}
+
+#[derive(Debug, Clone, Serialize)]
 pub struct SketchReport {
     pub max_length_change: f64,
     pub max_joint_move: f64,
@@ -52,6 +85,13 @@ pub struct Report {
     pub complete_cayley_vector: Vec<[String; 2]>,
     pub drawn: Option<DrawnReport>,
     pub sketch: Option<SketchReport>,
+    /// The non-oriented Cayley configuration space: disjoint closed intervals.
+    pub cayley_space: Vec<[f64; 2]>,
+    pub oriented_intervals: Vec<IntervalReport>,
+    /// `exact` (closed form, LCC) or `numeric`; steps searched numerically.
+    pub endpoint_method: Option<&'static str>,
+    pub numeric_steps: Vec<usize>,
+    pub accuracy: Option<AccuracyReport>,
     pub warnings: Vec<String>,
     pub timings_us: BTreeMap<String, f64>,
 }
@@ -81,6 +121,11 @@ impl Report {
             complete_cayley_vector: Vec::new(),
             drawn: None,
             sketch: None,
+            cayley_space: Vec::new(),
+            oriented_intervals: Vec::new(),
+            endpoint_method: None,
+            numeric_steps: Vec::new(),
+            accuracy: None,
             warnings: a.warnings.clone(),
             timings_us: a.timings.0.iter().map(|(k, v)| (k.to_string(), *v)).collect(),
         };
@@ -114,6 +159,34 @@ impl Report {
                     .sketch
                     .as_ref()
                     .map(|f| SketchReport { max_length_change: f.max_length_change, max_joint_move: f.max_joint_move });
+                r.cayley_space = s.union.clone();
+                let event = |e: &crate::cayley_space::Event| EventReport {
+                    step: e.step,
+                    vertex: name(s.dec.steps[e.step].vertex),
+                    kind: e.kind.name(),
+                };
+                r.oriented_intervals = s
+                    .space
+                    .intervals
+                    .iter()
+                    .map(|i| IntervalReport {
+                        ty: i.ty.to_string(),
+                        lower: i.lower.lambda,
+                        upper: i.upper.lambda,
+                        lower_event: i.lower.events.first().map(event),
+                        upper_event: i.upper.events.first().map(event),
+                        lower_events: i.lower.events.iter().map(event).collect(),
+                        upper_events: i.upper.events.iter().map(event).collect(),
+                    })
+                    .collect();
+                r.endpoint_method = Some(if s.space.numeric_steps.is_empty() { "exact" } else { "exact+numeric" });
+                r.numeric_steps = s.space.numeric_steps.clone();
+                r.accuracy = s.accuracy.as_ref().map(|acc| AccuracyReport {
+                    reference: "double-double (106-bit)",
+                    max_endpoint_error_estimate: acc.max_endpoint_error,
+                    max_relative_error_estimate: acc.max_relative_error,
+                    same_structure: acc.same_structure,
+                });
             }
         }
         r
@@ -123,8 +196,13 @@ impl Report {
         serde_json::to_string_pretty(self).expect("report serializes")
     }
 
-    /// The text form: aligned tables, for people.
+    /// The text form: aligned tables, for people. `all` lists every oriented
+    /// interval even when there are many.
     pub fn to_text(&self) -> String {
+        self.to_text_with(false)
+    }
+
+    pub fn to_text_with(&self, all: bool) -> String {
         let mut o = String::new();
         let _ = writeln!(o, "{}  ({})", self.scene, self.source);
         if let Some(d) = &self.description {
@@ -140,18 +218,23 @@ impl Report {
         );
         let _ = writeln!(o);
         if !self.one_dof_tree_decomposable {
-            let _ = writeln!(o, "{:<24}{}", "Class", "outside the handled class");
+            let _ = writeln!(o, "{:<24}outside the handled class", "Class");
             let _ = writeln!(o, "{:<24}{}", "Reason", self.reason.as_deref().unwrap_or("?"));
             self.write_warnings(&mut o);
             return o;
         }
-        let _ = writeln!(o, "{:<24}{}", "Class", "1-dof tree-decomposable");
+        let _ = writeln!(o, "{:<24}1-dof tree-decomposable", "Class");
         if let Some([a, b]) = &self.base {
             let how = if self.base_chosen_automatically { "chosen automatically" } else { "given" };
             let _ = writeln!(o, "{:<24}{a}–{b} ({how})", "Base non-edge");
         }
         let others: Vec<String> = self.other_bases.iter().map(|[a, b]| format!("{a}–{b}")).collect();
-        let _ = writeln!(o, "{:<24}{}", "Other valid bases", if others.is_empty() { "none".into() } else { others.join(", ") });
+        let _ = writeln!(
+            o,
+            "{:<24}{}",
+            "Other valid bases",
+            if others.is_empty() { "none".into() } else { others.join(", ") }
+        );
         let _ = writeln!(o);
         let _ = writeln!(o, "Construction steps ({})", self.steps.len());
         let rows: Vec<[String; 5]> = self
@@ -186,12 +269,128 @@ impl Report {
                 o,
                 "{:<24}stated lengths differ from the drawing by up to {}; joints moved up to {}",
                 "Sketch",
-                fmt_num(s.max_length_change),
-                fmt_num(s.max_joint_move)
+                fmt_sci(s.max_length_change),
+                fmt_sci(s.max_joint_move)
             );
         }
+        let _ = writeln!(o);
+        self.write_cayley_space(&mut o, all);
         self.write_warnings(&mut o);
         o
+    }
+
+    fn write_cayley_space(&self, o: &mut String, all: bool) {
+        let spans: Vec<String> =
+            self.cayley_space.iter().map(|[a, b]| format!("[{}, {}]", fmt_num(*a), fmt_num(*b))).collect();
+        let _ = writeln!(
+            o,
+            "{:<24}{}",
+            "Cayley space",
+            if spans.is_empty() { "empty: no realization".into() } else { spans.join(" ∪ ") }
+        );
+        let n_types = 1usize.checked_shl(self.steps.len() as u32).unwrap_or(usize::MAX);
+        let mut types: Vec<&str> = self.oriented_intervals.iter().map(|i| i.ty.as_str()).collect();
+        types.dedup();
+        let _ = writeln!(
+            o,
+            "{:<24}{} intervals over {} of {} types ({})",
+            "Oriented intervals",
+            self.oriented_intervals.len(),
+            types.len(),
+            if n_types == usize::MAX { format!("2^{}", self.steps.len()) } else { n_types.to_string() },
+            match self.endpoint_method {
+                Some("exact") => "endpoints in closed form".to_string(),
+                _ => format!(
+                    "closed form, and numeric search for steps {}",
+                    self.numeric_steps.iter().map(|k| (k + 1).to_string()).collect::<Vec<_>>().join(", ")
+                ),
+            }
+        );
+        if let Some(a) = &self.accuracy {
+            let _ = writeln!(
+                o,
+                "{:<24}endpoints within {} of the double-double reference ({} relative){}",
+                "Accuracy",
+                fmt_sci(a.max_endpoint_error_estimate),
+                fmt_sci(a.max_relative_error_estimate),
+                if a.same_structure { "" } else { "; STRUCTURE DIFFERS" }
+            );
+        }
+        let drawn_ty = self.drawn.as_ref().map(|d| d.ty.clone()).unwrap_or_default();
+        let many = self.oriented_intervals.len() > 32 && !all;
+        let shown: Vec<&IntervalReport> =
+            self.oriented_intervals.iter().filter(|i| !many || i.ty == drawn_ty).collect();
+        if shown.is_empty() {
+            return;
+        }
+        let _ = writeln!(o);
+        if many {
+            let _ = writeln!(
+                o,
+                "Intervals of the drawn type {drawn_ty} (all {} with --all)",
+                self.oriented_intervals.len()
+            );
+        }
+        let ev = |e: &Option<EventReport>, all: &[EventReport]| match e {
+            Some(e) => {
+                let extra = if all.len() > 1 { format!(" +{}", all.len() - 1) } else { String::new() };
+                format!("{} {} (step {}){extra}", e.vertex, e.kind, e.step + 1)
+            }
+            None => "-".to_string(),
+        };
+        let rows: Vec<[String; 5]> = shown
+            .iter()
+            .map(|i| {
+                [
+                    i.ty.clone(),
+                    fmt_num(i.lower),
+                    fmt_num(i.upper),
+                    ev(&i.lower_event, &i.lower_events),
+                    ev(&i.upper_event, &i.upper_events),
+                ]
+            })
+            .collect();
+        write_table(o, &["type", "lower", "upper", "lower event", "upper event"], &rows);
+        let _ = writeln!(o);
+        self.write_chart(o, &shown);
+        let _ = writeln!(o);
+    }
+
+    /// Bars over the λ axis: the union on top, then one row per type.
+    fn write_chart(&self, o: &mut String, shown: &[&IntervalReport]) {
+        const WIDTH: usize = 56;
+        let (Some(first), Some(last)) = (self.cayley_space.first(), self.cayley_space.last()) else { return };
+        let (lo, hi) = (first[0], last[1]);
+        let span = if hi > lo { hi - lo } else { 1.0 };
+        let col = |x: f64| (((x - lo) / span) * (WIDTH - 1) as f64).round().clamp(0.0, (WIDTH - 1) as f64) as usize;
+        let bar = |spans: &mut dyn Iterator<Item = (f64, f64)>| {
+            let mut row = vec![' '; WIDTH];
+            for (a, b) in spans {
+                let (ca, cb) = (col(a), col(b));
+                if ca == cb {
+                    row[ca] = if a == b { '•' } else { '█' };
+                } else {
+                    row[ca..=cb].iter_mut().for_each(|c| *c = '█');
+                }
+            }
+            row.into_iter().collect::<String>()
+        };
+        let label_width = shown.iter().map(|i| i.ty.chars().count()).max().unwrap_or(4).max(5);
+        let left = fmt_num(lo);
+        let right = fmt_num(hi);
+        let pad = (WIDTH + 2).saturating_sub(left.len() + right.len());
+        let _ = writeln!(o, "  {:<label_width$} {left}{}{right}", "λ", " ".repeat(pad));
+        let union = bar(&mut self.cayley_space.iter().map(|s| (s[0], s[1])));
+        let _ = writeln!(o, "  {:<label_width$} |{union}|", "union");
+        let mut seen: Vec<&str> = Vec::new();
+        for i in shown {
+            if seen.contains(&i.ty.as_str()) {
+                continue;
+            }
+            seen.push(&i.ty);
+            let row = bar(&mut shown.iter().filter(|j| j.ty == i.ty).map(|j| (j.lower, j.upper)));
+            let _ = writeln!(o, "  {:<label_width$} |{row}|", i.ty);
+        }
     }
 
     fn write_warnings(&self, o: &mut String) {
@@ -214,6 +413,11 @@ pub fn fmt_num(x: f64) -> String {
     let digits = (6 - 1 - x.abs().log10().floor() as i32).clamp(0, 12) as usize;
     let s = format!("{x:.digits$}");
     if s.contains('.') { s.trim_end_matches('0').trim_end_matches('.').to_string() } else { s }
+}
+
+/// A small number in scientific notation (errors, residuals).
+pub fn fmt_sci(x: f64) -> String {
+    if x == 0.0 { "0".to_string() } else { format!("{x:.1e}") }
 }
 
 /// Columns padded to their widest cell (by characters, so `◁` counts as one).

@@ -90,25 +90,12 @@ impl Scene {
 
     /// A line-anchored error about this scene.
     pub fn error_at(&self, line: Option<usize>, message: impl Into<String>) -> SceneError {
-        SceneError {
-            file: self.source.clone(),
-            line,
-            column: None,
-            message: message.into(),
-        }
+        SceneError { file: self.source.clone(), line, column: None, message: message.into() }
     }
 }
 
 /// The top-level keys a scene may use; anything else (such as a typo) is an error.
-const TOP_LEVEL_KEYS: [&str; 7] = [
-    "name",
-    "description",
-    "base",
-    "ground",
-    "bars",
-    "bodies",
-    "joints",
-];
+const TOP_LEVEL_KEYS: [&str; 7] = ["name", "description", "base", "ground", "bars", "bodies", "joints"];
 
 /// Two joints closer than this fraction of the drawing's bounding-box diagonal
 /// count as drawn at the same point.
@@ -132,10 +119,7 @@ pub fn parse_scene(text: &str, source: &str, default_name: &str) -> Result<Scene
     let root = DeTable::parse(text).map_err(|e| doc.syntax_error(&e))?;
     let table = root.get_ref();
     if table.is_empty() {
-        return Err(doc.error(
-            None,
-            "the file is empty: a scene needs a [joints] table and a `bars` array",
-        ));
+        return Err(doc.error(None, "the file is empty: a scene needs a [joints] table and a `bars` array"));
     }
     check_top_level_keys(&doc, table)?;
 
@@ -152,16 +136,7 @@ pub fn parse_scene(text: &str, source: &str, default_name: &str) -> Result<Scene
     let base = parse_base(&doc, &names, &bars, table.get("base"))?;
     let ground = parse_ground(&doc, &names, &bars, table.get("ground"))?;
 
-    Ok(Scene {
-        name,
-        description,
-        source: source.to_string(),
-        joints,
-        bars,
-        bodies,
-        base,
-        ground,
-    })
+    Ok(Scene { name, description, source: source.to_string(), joints, bars, bodies, base, ground })
 }
 
 /// Read and parse a scene file; non-UTF-8 bytes and I/O errors become [`SceneError`]s.
@@ -178,10 +153,7 @@ pub fn load_scene(path: &Path) -> Result<Scene, SceneError> {
         Ok(text) => text,
         Err(e) => return Err(not_utf8_error(&file, e.as_bytes(), e.utf8_error())),
     };
-    let stem = path
-        .file_stem()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_default();
+    let stem = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
     parse_scene(&text, &file, &stem)
 }
 
@@ -191,10 +163,7 @@ fn not_utf8_error(file: &str, bytes: &[u8], error: std::str::Utf8Error) -> Scene
     let valid = std::str::from_utf8(&bytes[..offset]).unwrap_or_default();
     let doc = Doc::new(valid, file);
     let bad = bytes.get(offset).copied().unwrap_or_default();
-    doc.error(
-        Some(offset),
-        format!("the file is not valid UTF-8 (byte 0x{bad:02X} at byte offset {offset})"),
-    )
+    doc.error(Some(offset), format!("the file is not valid UTF-8 (byte 0x{bad:02X} at byte offset {offset})"))
 }
 
 // ---------------------------------------------------------------------------
@@ -211,14 +180,8 @@ struct Doc<'a> {
 
 impl<'a> Doc<'a> {
     fn new(text: &'a str, file: &'a str) -> Self {
-        let line_starts = std::iter::once(0)
-            .chain(text.match_indices('\n').map(|(i, _)| i + 1))
-            .collect();
-        Doc {
-            text,
-            file,
-            line_starts,
-        }
+        let line_starts = std::iter::once(0).chain(text.match_indices('\n').map(|(i, _)| i + 1)).collect();
+        Doc { text, file, line_starts }
     }
 
     /// 1-based line and character column of a byte offset (clamped into the text).
@@ -249,12 +212,7 @@ impl<'a> Doc<'a> {
             Some((line, column)) => (Some(line), Some(column)),
             None => (None, None),
         };
-        SceneError {
-            file: self.file.to_string(),
-            line,
-            column,
-            message: one_line(&message.into()),
-        }
+        SceneError { file: self.file.to_string(), line, column, message: one_line(&message.into()) }
     }
 
     /// An error at the start of a spanned value.
@@ -264,12 +222,7 @@ impl<'a> Doc<'a> {
 
     /// An error on a whole line (no column).
     fn error_on_line(&self, line: usize, message: impl Into<String>) -> SceneError {
-        SceneError {
-            file: self.file.to_string(),
-            line: Some(line),
-            column: None,
-            message: one_line(&message.into()),
-        }
+        SceneError { file: self.file.to_string(), line: Some(line), column: None, message: one_line(&message.into()) }
     }
 
     /// A TOML syntax error as one line: the parser's message, without the snippet.
@@ -281,22 +234,15 @@ impl<'a> Doc<'a> {
 
 /// Collapses line breaks and other control characters so an error stays on one line.
 fn one_line(message: &str) -> String {
-    let words: Vec<&str> = message
-        .split(|c: char| c.is_control())
-        .map(str::trim)
-        .filter(|part| !part.is_empty())
-        .collect();
+    let words: Vec<&str> =
+        message.split(|c: char| c.is_control()).map(str::trim).filter(|part| !part.is_empty()).collect();
     words.join("; ")
 }
 
 /// A name as shown inside labels such as `bar 3 (X–Q)`: as written, unless it
 /// contains control characters, which are escaped.
 fn shown(name: &str) -> String {
-    if name.chars().any(char::is_control) {
-        name.escape_debug().to_string()
-    } else {
-        name.to_string()
-    }
+    if name.chars().any(char::is_control) { name.escape_debug().to_string() } else { name.to_string() }
 }
 
 /// "a string", "an integer", ... for messages about a value of the wrong type.
@@ -332,11 +278,7 @@ fn check_top_level_keys(doc: &Doc, table: &DeTable) -> Result<(), SceneError> {
             .unwrap_or_default();
         return Err(doc.error_at(
             key,
-            format!(
-                "unknown key `{}`{hint}; the allowed keys are {}",
-                shown(key_name),
-                TOP_LEVEL_KEYS.join(", ")
-            ),
+            format!("unknown key `{}`{hint}; the allowed keys are {}", shown(key_name), TOP_LEVEL_KEYS.join(", ")),
         ));
     }
     Ok(())
@@ -364,14 +306,9 @@ fn optional_string(doc: &Doc, table: &DeTable, key: &str) -> Result<Option<Strin
         return Ok(None);
     };
     match value.get_ref() {
-        DeValue::String(s) if s.trim().is_empty() => {
-            Err(doc.error_at(value, format!("`{key}` must not be empty")))
-        }
+        DeValue::String(s) if s.trim().is_empty() => Err(doc.error_at(value, format!("`{key}` must not be empty"))),
         DeValue::String(s) => Ok(Some(s.to_string())),
-        other => Err(doc.error_at(
-            value,
-            format!("`{key}` must be a string, found {}", kind(other)),
-        )),
+        other => Err(doc.error_at(value, format!("`{key}` must be a string, found {}", kind(other)))),
     }
 }
 
@@ -385,34 +322,20 @@ fn finite_number(doc: &Doc, value: &Value, what: &str) -> Result<f64, SceneError
             as f64,
         DeValue::Float(float) => float.as_str().parse::<f64>().unwrap_or(f64::NAN),
         other => {
-            return Err(doc.error_at(
-                value,
-                format!("{what} must be a number, found {}", kind(other)),
-            ));
+            return Err(doc.error_at(value, format!("{what} must be a number, found {}", kind(other))));
         }
     };
     if !number.is_finite() {
-        return Err(doc.error_at(
-            value,
-            format!("{what} must be a finite number, found {raw}"),
-        ));
+        return Err(doc.error_at(value, format!("{what} must be a finite number, found {raw}")));
     }
     Ok(number + 0.0)
 }
 
 /// The elements of an array value, or an error saying what was expected instead.
-fn array<'v, 'i>(
-    doc: &Doc,
-    value: &'v Value<'i>,
-    what: &str,
-    expected: &str,
-) -> Result<&'v DeArray<'i>, SceneError> {
+fn array<'v, 'i>(doc: &Doc, value: &'v Value<'i>, what: &str, expected: &str) -> Result<&'v DeArray<'i>, SceneError> {
     match value.get_ref() {
         DeValue::Array(items) => Ok(items),
-        other => Err(doc.error_at(
-            value,
-            format!("{what} must be {expected}, found {}", kind(other)),
-        )),
+        other => Err(doc.error_at(value, format!("{what} must be {expected}, found {}", kind(other)))),
     }
 }
 
@@ -423,28 +346,19 @@ fn array<'v, 'i>(
 /// kept in file order. Each joint's line is the line of its name.
 fn parse_joints(doc: &Doc, value: Option<&Value>) -> Result<Vec<Joint>, SceneError> {
     let Some(value) = value else {
-        return Err(doc.error(
-            None,
-            "missing [joints] table: list each joint as NAME = [x, y]",
-        ));
+        return Err(doc.error(None, "missing [joints] table: list each joint as NAME = [x, y]"));
     };
     let DeValue::Table(table) = value.get_ref() else {
-        return Err(doc.error_at(
-            value,
-            format!(
-                "`joints` must be a table of NAME = [x, y], found {}",
-                kind(value.get_ref())
-            ),
-        ));
+        return Err(
+            doc.error_at(value, format!("`joints` must be a table of NAME = [x, y], found {}", kind(value.get_ref())))
+        );
     };
     if table.is_empty() {
         return Err(doc.error_at(value, "[joints] lists no joints"));
     }
     table
         .iter()
-        .map(|(key, position)| {
-            parse_joint(doc, key, position).map_err(|error| misplaced_key_hint(error, key))
-        })
+        .map(|(key, position)| parse_joint(doc, key, position).map_err(|error| misplaced_key_hint(error, key)))
         .collect()
 }
 
@@ -466,30 +380,17 @@ fn parse_joint(doc: &Doc, key: &Spanned<DeString>, value: &Value) -> Result<Join
     }
     let what = format!("joint {name:?}");
     let DeValue::Array(coords) = value.get_ref() else {
-        return Err(doc.error_at(
-            value,
-            format!(
-                "{what}: expected a position [x, y], found {}",
-                kind(value.get_ref())
-            ),
-        ));
+        return Err(doc.error_at(value, format!("{what}: expected a position [x, y], found {}", kind(value.get_ref()))));
     };
     let [x, y] = coords.as_ref() else {
         return Err(doc.error_at(
             value,
-            format!(
-                "{what}: expected a position [x, y] of 2 numbers, found {} element(s)",
-                coords.len()
-            ),
+            format!("{what}: expected a position [x, y] of 2 numbers, found {} element(s)", coords.len()),
         ));
     };
     let x = finite_number(doc, x, &format!("{what}: x coordinate"))?;
     let y = finite_number(doc, y, &format!("{what}: y coordinate"))?;
-    Ok(Joint {
-        name: name.to_string(),
-        pos: [x, y],
-        line: doc.line(key.span()),
-    })
+    Ok(Joint { name: name.to_string(), pos: [x, y], line: doc.line(key.span()) })
 }
 
 /// No two joints may be drawn at the same point: exactly equal, or within
@@ -532,11 +433,7 @@ struct JointNames<'s> {
 
 impl<'s> JointNames<'s> {
     fn new(joints: &'s [Joint]) -> Self {
-        let index = joints
-            .iter()
-            .enumerate()
-            .map(|(i, joint)| (joint.name.as_str(), i))
-            .collect();
+        let index = joints.iter().enumerate().map(|(i, joint)| (joint.name.as_str(), i)).collect();
         JointNames { index }
     }
 
@@ -546,10 +443,7 @@ impl<'s> JointNames<'s> {
         let DeValue::String(name) = value.get_ref() else {
             return Err(doc.error_at(
                 value,
-                format!(
-                    "{item}: expected a joint name (a string), found {}",
-                    kind(value.get_ref())
-                ),
+                format!("{item}: expected a joint name (a string), found {}", kind(value.get_ref())),
             ));
         };
         self.index
@@ -562,13 +456,8 @@ impl<'s> JointNames<'s> {
 /// The joint names an array lists, as `A–B–C`; `None` when some element is
 /// not a string or the array is empty.
 fn joint_list(parts: &[Value]) -> Option<String> {
-    let names: Option<Vec<String>> = parts
-        .iter()
-        .map(|part| part.get_ref().as_str().map(shown))
-        .collect();
-    names
-        .filter(|names| !names.is_empty())
-        .map(|names| names.join("–"))
+    let names: Option<Vec<String>> = parts.iter().map(|part| part.get_ref().as_str().map(shown)).collect();
+    names.filter(|names| !names.is_empty()).map(|names| names.join("–"))
 }
 
 /// `prefix (A–B–C)` naming an item by the joints it lists, or just `prefix`
@@ -586,16 +475,9 @@ fn label(prefix: &str, parts: &[Value]) -> String {
 /// Parses `bars`: a non-empty array of `[A, B]` or `[A, B, length]`. Each bar
 /// joins two known, distinct joints; a stated length is a positive finite
 /// number; no two bars join the same pair of joints (in either order).
-fn parse_bars(
-    doc: &Doc,
-    names: &JointNames,
-    value: Option<&Value>,
-) -> Result<Vec<Bar>, SceneError> {
+fn parse_bars(doc: &Doc, names: &JointNames, value: Option<&Value>) -> Result<Vec<Bar>, SceneError> {
     let Some(value) = value else {
-        return Err(doc.error(
-            None,
-            "no bars: add `bars = [[\"A\", \"B\"], ...]` before the [joints] table",
-        ));
+        return Err(doc.error(None, "no bars: add `bars = [[\"A\", \"B\"], ...]` before the [joints] table"));
     };
     let items = array(doc, value, "`bars`", "an array of bars like [\"A\", \"B\"]")?;
     if items.is_empty() {
@@ -610,10 +492,7 @@ fn parse_bars(
         let pair = [a.min(b), a.max(b)];
         if let Some((other, other_line)) = earlier.get(&pair) {
             let item_label = label(&format!("bar {number}"), &items_of(item)[..2]);
-            return Err(doc.error_at(
-                item,
-                format!("{item_label}: duplicates bar {other} on line {other_line}"),
-            ));
+            return Err(doc.error_at(item, format!("{item_label}: duplicates bar {other} on line {other_line}")));
         }
         earlier.insert(pair, (number, bar.line));
         bars.push(bar);
@@ -630,19 +509,9 @@ fn items_of<'v, 'i>(value: &'v Value<'i>) -> &'v [Value<'i>] {
 }
 
 /// One bar, number `number` (1-based) in the `bars` array.
-fn parse_bar(
-    doc: &Doc,
-    names: &JointNames,
-    number: usize,
-    item: &Value,
-) -> Result<Bar, SceneError> {
+fn parse_bar(doc: &Doc, names: &JointNames, number: usize, item: &Value) -> Result<Bar, SceneError> {
     let prefix = format!("bar {number}");
-    let parts = array(
-        doc,
-        item,
-        &prefix,
-        "an array [\"A\", \"B\"] or [\"A\", \"B\", length]",
-    )?;
+    let parts = array(doc, item, &prefix, "an array [\"A\", \"B\"] or [\"A\", \"B\", length]")?;
     let item_label = label(&prefix, &parts[..parts.len().min(2)]);
     let (first, second, length) = match parts.as_ref() {
         [a, b] => (a, b, None),
@@ -660,108 +529,57 @@ fn parse_bar(
     let a = names.resolve(doc, first, &item_label)?;
     let b = names.resolve(doc, second, &item_label)?;
     if a == b {
-        return Err(doc.error_at(
-            item,
-            format!("{item_label}: a bar cannot join a joint to itself"),
-        ));
+        return Err(doc.error_at(item, format!("{item_label}: a bar cannot join a joint to itself")));
     }
     let length = match length {
         Some(value) => Some(positive_length(doc, value, &item_label)?),
         None => None,
     };
-    Ok(Bar {
-        joints: [a, b],
-        length,
-        line: doc.line(item.span()),
-    })
+    Ok(Bar { joints: [a, b], length, line: doc.line(item.span()) })
 }
 
 /// A stated bar length: a finite number greater than zero.
 fn positive_length(doc: &Doc, value: &Value, item_label: &str) -> Result<f64, SceneError> {
     let length = finite_number(doc, value, &format!("{item_label}: length"))?;
     if length <= 0.0 {
-        return Err(doc.error_at(
-            value,
-            format!(
-                "{item_label}: length must be positive, found {}",
-                doc.raw(value.span())
-            ),
-        ));
+        return Err(
+            doc.error_at(value, format!("{item_label}: length must be positive, found {}", doc.raw(value.span())))
+        );
     }
     Ok(length)
 }
 
 /// Parses the optional `bodies`: an array of arrays of at least three known,
 /// distinct joints.
-fn parse_bodies(
-    doc: &Doc,
-    names: &JointNames,
-    value: Option<&Value>,
-) -> Result<Vec<Body>, SceneError> {
+fn parse_bodies(doc: &Doc, names: &JointNames, value: Option<&Value>) -> Result<Vec<Body>, SceneError> {
     let Some(value) = value else {
         return Ok(Vec::new());
     };
-    let items = array(
-        doc,
-        value,
-        "`bodies`",
-        "an array of bodies like [\"A\", \"B\", \"C\"]",
-    )?;
-    items
-        .iter()
-        .enumerate()
-        .map(|(i, item)| parse_body(doc, names, i + 1, item))
-        .collect()
+    let items = array(doc, value, "`bodies`", "an array of bodies like [\"A\", \"B\", \"C\"]")?;
+    items.iter().enumerate().map(|(i, item)| parse_body(doc, names, i + 1, item)).collect()
 }
 
 /// One body, number `number` (1-based) in the `bodies` array.
-fn parse_body(
-    doc: &Doc,
-    names: &JointNames,
-    number: usize,
-    item: &Value,
-) -> Result<Body, SceneError> {
+fn parse_body(doc: &Doc, names: &JointNames, number: usize, item: &Value) -> Result<Body, SceneError> {
     let prefix = format!("body {number}");
-    let parts = array(
-        doc,
-        item,
-        &prefix,
-        "an array of joint names [\"A\", \"B\", \"C\", ...]",
-    )?;
+    let parts = array(doc, item, &prefix, "an array of joint names [\"A\", \"B\", \"C\", ...]")?;
     let item_label = label(&prefix, parts);
     if parts.len() < 3 {
-        return Err(doc.error_at(
-            item,
-            format!(
-                "{item_label}: a body needs at least 3 joints, found {}",
-                parts.len()
-            ),
-        ));
+        return Err(doc.error_at(item, format!("{item_label}: a body needs at least 3 joints, found {}", parts.len())));
     }
     let joints = distinct_joints(doc, names, parts, &item_label)?;
-    Ok(Body {
-        joints,
-        line: doc.line(item.span()),
-    })
+    Ok(Body { joints, line: doc.line(item.span()) })
 }
 
 /// Resolves a list of joint names, rejecting unknown and repeated joints.
-fn distinct_joints(
-    doc: &Doc,
-    names: &JointNames,
-    parts: &[Value],
-    item_label: &str,
-) -> Result<Vec<usize>, SceneError> {
+fn distinct_joints(doc: &Doc, names: &JointNames, parts: &[Value], item_label: &str) -> Result<Vec<usize>, SceneError> {
     let mut joints = Vec::with_capacity(parts.len());
     for part in parts {
         let joint = names.resolve(doc, part, item_label)?;
         if joints.contains(&joint) {
             return Err(doc.error_at(
                 part,
-                format!(
-                    "{item_label}: joint {:?} is listed twice",
-                    part.get_ref().as_str().unwrap_or_default()
-                ),
+                format!("{item_label}: joint {:?} is listed twice", part.get_ref().as_str().unwrap_or_default()),
             ));
         }
         joints.push(joint);
@@ -789,34 +607,19 @@ fn parse_base(
         None => "base".to_string(),
     };
     if parts.len() != 2 {
-        return Err(doc.error_at(
-            value,
-            format!(
-                "{item_label}: the base must name exactly 2 joints, found {}",
-                parts.len()
-            ),
-        ));
+        return Err(
+            doc.error_at(value, format!("{item_label}: the base must name exactly 2 joints, found {}", parts.len()))
+        );
     }
     let a = names.resolve(doc, &parts[0], &item_label)?;
     let b = names.resolve(doc, &parts[1], &item_label)?;
     if a == b {
-        return Err(doc.error_at(
-            value,
-            format!("{item_label}: the two joints must be different"),
-        ));
+        return Err(doc.error_at(value, format!("{item_label}: the two joints must be different")));
     }
-    if let Some((i, bar)) = bars
-        .iter()
-        .enumerate()
-        .find(|(_, bar)| bar.joints == [a, b] || bar.joints == [b, a])
-    {
+    if let Some((i, bar)) = bars.iter().enumerate().find(|(_, bar)| bar.joints == [a, b] || bar.joints == [b, a]) {
         return Err(doc.error_at(
             value,
-            format!(
-                "{item_label} is a bar; the base must be a non-edge (bar {} on line {})",
-                i + 1,
-                bar.line
-            ),
+            format!("{item_label} is a bar; the base must be a non-edge (bar {} on line {})", i + 1, bar.line),
         ));
     }
     Ok(Some(([a, b], doc.line(value.span()))))
@@ -824,29 +627,13 @@ fn parse_base(
 
 /// Parses the optional `ground`: one or two known, distinct joints. Without it
 /// the first bar's two joints are held still.
-fn parse_ground(
-    doc: &Doc,
-    names: &JointNames,
-    bars: &[Bar],
-    value: Option<&Value>,
-) -> Result<Vec<usize>, SceneError> {
+fn parse_ground(doc: &Doc, names: &JointNames, bars: &[Bar], value: Option<&Value>) -> Result<Vec<usize>, SceneError> {
     let Some(value) = value else {
-        return Ok(bars
-            .first()
-            .map(|bar| bar.joints.to_vec())
-            .unwrap_or_default());
+        return Ok(bars.first().map(|bar| bar.joints.to_vec()).unwrap_or_default());
     };
-    let parts = array(
-        doc,
-        value,
-        "`ground`",
-        "one or two joint names like [\"O\", \"P\"]",
-    )?;
+    let parts = array(doc, value, "`ground`", "one or two joint names like [\"O\", \"P\"]")?;
     if !(1..=2).contains(&parts.len()) {
-        return Err(doc.error_at(
-            value,
-            format!("ground must name 1 or 2 joints, found {}", parts.len()),
-        ));
+        return Err(doc.error_at(value, format!("ground must name 1 or 2 joints, found {}", parts.len())));
     }
     distinct_joints(doc, names, parts, "ground")
 }

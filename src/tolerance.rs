@@ -16,3 +16,24 @@ pub const DRAWN_FLAT: f64 = 1e-9;
 
 /// A realization meets its bars when every bar length is within this (× scale).
 pub const BAR_RESIDUAL: f64 = 1e-9;
+
+/// A computed root whose slack slope |d slack/dλ| (dimensionless) is below
+/// this is a tangency (double root) and is classified by its curvature. For
+/// f64 this is 1e-10; for a finer type it shrinks with √(unit roundoff):
+/// near a double root, roots are only located to about √u.
+pub fn tangent_slope(unit_roundoff: f64) -> f64 {
+    1e-10 * (unit_roundoff / (f64::EPSILON / 2.0)).sqrt()
+}
+
+/// A candidate λ is accepted as a root of `d_k(λ) = t` when the Newton
+/// correction |g/g'| is below this (× scale), or |g| itself is below
+/// [`ROOT_VALUE`] (× scale), which covers tangent roots where g' vanishes.
+pub const ROOT_STEP: f64 = 1e-9;
+pub const ROOT_VALUE: f64 = 1e-12;
+
+/// A root this close (× scale) to an endpoint of an earlier step is the same
+/// λ: two steps are flat at once (a non-generic event).
+pub const EVENTS_COINCIDE: f64 = 1e-11;
+
+/// Intervals of the non-oriented Cayley space closer than this (× scale) are joined.
+pub const UNION_GAP: f64 = 1e-12;

@@ -1,6 +1,6 @@
 //! Issue 2: recognition, steps, four-cycle test and realization of the drawn pose.
 
-use caymos::analysis::{analyse, Analysis, Solved};
+use caymos::analysis::{Analysis, Solved, analyse};
 use caymos::builder::SceneBuilder;
 use caymos::bundled;
 use caymos::decompose::Outside;
@@ -68,11 +68,16 @@ fn limacon_steps_and_complete_cayley_vector_match_theory() {
     assert_eq!(st[2], ("v6".to_string(), on("v1", "v4")));
     assert_eq!(st[3], ("v8".to_string(), on("v5", "v7")));
     assert!(s.complexity.low);
-    let ccv: Vec<[String; 2]> = s.complexity.ccv.iter().map(|&p| {
-        let mut q = pair_names(&a, p);
-        q.sort();
-        q
-    }).collect();
+    let ccv: Vec<[String; 2]> = s
+        .complexity
+        .ccv
+        .iter()
+        .map(|&p| {
+            let mut q = pair_names(&a, p);
+            q.sort();
+            q
+        })
+        .collect();
     assert_eq!(ccv, [on("v0", "v1"), on("v2", "v5"), on("v5", "v6"), on("v1", "v8")]);
 }
 
@@ -185,8 +190,21 @@ fn every_bundled_scene_loads_and_reports() {
         let a = analyse(bundled::load(b.name).unwrap(), None).unwrap();
         let report = caymos::report::Report::new(&a);
         let json: serde_json::Value = serde_json::from_str(&report.to_json()).unwrap();
-        for key in ["scene", "joints", "bars", "one_dof_tree_decomposable", "reason", "base", "other_bases", "steps",
-            "low_cayley_complexity", "complete_cayley_vector", "drawn", "warnings", "timings_us"] {
+        for key in [
+            "scene",
+            "joints",
+            "bars",
+            "one_dof_tree_decomposable",
+            "reason",
+            "base",
+            "other_bases",
+            "steps",
+            "low_cayley_complexity",
+            "complete_cayley_vector",
+            "drawn",
+            "warnings",
+            "timings_us",
+        ] {
             assert!(json.get(key).is_some(), "{}: no {key}", b.name);
         }
         assert!(!report.to_text().is_empty());

@@ -21,16 +21,10 @@ fn assert_error(text: &str, line: Option<usize>, needles: &[&str]) -> SceneError
     };
     assert_eq!(error.line, line, "wrong line in `{error}`");
     for needle in needles {
-        assert!(
-            error.message.contains(needle),
-            "`{error}` does not mention {needle:?}"
-        );
+        assert!(error.message.contains(needle), "`{error}` does not mention {needle:?}");
     }
     assert_eq!(error.file, "test.toml");
-    assert!(
-        !error.to_string().contains('\n'),
-        "multi-line error `{error}`"
-    );
+    assert!(!error.to_string().contains('\n'), "multi-line error `{error}`");
     error
 }
 
@@ -77,10 +71,7 @@ F = [-18.150294681174, -91.571324668313]
 fn jansen_example_round_trips() {
     let scene = parse(JANSEN).unwrap();
     assert_eq!(scene.name, "Jansen leg");
-    assert_eq!(
-        scene.description.as_deref(),
-        Some("Theo Jansen's Strandbeest leg")
-    );
+    assert_eq!(scene.description.as_deref(), Some("Theo Jansen's Strandbeest leg"));
     assert_eq!(scene.source, "test.toml");
 
     let names: Vec<&str> = scene.joints.iter().map(|j| j.name.as_str()).collect();
@@ -90,11 +81,7 @@ fn jansen_example_round_trips() {
     assert_eq!(scene.joints[0].pos, [0.0, 0.0]);
     assert_eq!(scene.joints[1].pos, [-38.0, -7.8]);
 
-    let bars: Vec<([usize; 2], Option<f64>, usize)> = scene
-        .bars
-        .iter()
-        .map(|b| (b.joints, b.length, b.line))
-        .collect();
+    let bars: Vec<([usize; 2], Option<f64>, usize)> = scene.bars.iter().map(|b| (b.joints, b.length, b.line)).collect();
     assert_eq!(
         bars,
         [
@@ -107,19 +94,7 @@ fn jansen_example_round_trips() {
         ]
     );
     assert!(scene.is_sketch());
-    assert_eq!(
-        scene.bodies,
-        [
-            Body {
-                joints: vec![1, 3, 4],
-                line: 13
-            },
-            Body {
-                joints: vec![5, 6, 7],
-                line: 13
-            }
-        ]
-    );
+    assert_eq!(scene.bodies, [Body { joints: vec![1, 3, 4], line: 13 }, Body { joints: vec![5, 6, 7], line: 13 }]);
     assert_eq!(scene.base, Some(([1, 2], 3)));
     assert_eq!(scene.ground, [0, 1]);
     assert!((distance(&scene, "X", "Y") - 50.0).abs() < 1e-9);
@@ -132,11 +107,7 @@ fn optional_keys_have_defaults() {
     assert_eq!(scene.description, None);
     assert_eq!(scene.base, None);
     assert_eq!(scene.bodies, []);
-    assert_eq!(
-        scene.ground,
-        [1, 0],
-        "ground defaults to the first bar's joints"
-    );
+    assert_eq!(scene.ground, [1, 0], "ground defaults to the first bar's joints");
     assert!(!scene.is_sketch());
 }
 
@@ -170,11 +141,8 @@ fn negative_zero_and_other_number_forms_are_read() {
 
 #[test]
 fn toml_syntax_error_has_line_and_column() {
-    let error = assert_error(
-        "bars = [[\"A\", \"B\"]]\n[joints]\nA = [0; 0]\nB = [1, 1]\n",
-        Some(3),
-        &["TOML syntax error"],
-    );
+    let error =
+        assert_error("bars = [[\"A\", \"B\"]]\n[joints]\nA = [0; 0]\nB = [1, 1]\n", Some(3), &["TOML syntax error"]);
     assert_eq!(error.column, Some(6));
     // A missing `]` is noticed where the next element starts.
     assert_error(
@@ -182,11 +150,8 @@ fn toml_syntax_error_has_line_and_column() {
         Some(4),
         &["TOML syntax error", "comma"],
     );
-    let error = assert_error(
-        "bars = [[\"A\", \"B\"]]\n[joints]\nA = [0, 0]\nA = [1, 1]\n",
-        Some(4),
-        &["TOML syntax error"],
-    );
+    let error =
+        assert_error("bars = [[\"A\", \"B\"]]\n[joints]\nA = [0, 0]\nA = [1, 1]\n", Some(4), &["TOML syntax error"]);
     assert_eq!(error.column, Some(1));
 }
 
@@ -219,11 +184,7 @@ fn load_scene_reports_io_errors() {
 #[test]
 fn load_scene_uses_the_file_stem_as_default_name() {
     let path = temp_path("my-linkage.toml");
-    std::fs::write(
-        &path,
-        "bars = [[\"A\", \"B\"]]\n[joints]\nA = [0, 0]\nB = [1, 0]\n",
-    )
-    .unwrap();
+    std::fs::write(&path, "bars = [[\"A\", \"B\"]]\n[joints]\nA = [0, 0]\nB = [1, 0]\n").unwrap();
     let scene = load_scene(&path);
     std::fs::remove_file(&path).unwrap();
     let scene = scene.unwrap();
@@ -237,23 +198,12 @@ fn load_scene_uses_the_file_stem_as_default_name() {
 #[test]
 fn unknown_top_level_keys_are_rejected() {
     let text = "bar = [[\"A\", \"B\"]]\n[joints]\nA = [0, 0]\nB = [1, 0]\n";
-    let error = assert_error(
-        text,
-        Some(1),
-        &[
-            "unknown key `bar`",
-            "did you mean `bars`",
-            "name, description",
-        ],
-    );
+    let error = assert_error(text, Some(1), &["unknown key `bar`", "did you mean `bars`", "name, description"]);
     assert_eq!(error.column, Some(1));
     assert_error(
         "bars = [[\"A\", \"B\"]]\nscale = 2\n[joints]\nA = [0, 0]\nB = [1, 0]\n",
         Some(2),
-        &[
-            "unknown key `scale`",
-            "allowed keys are name, description, base, ground, bars, bodies, joints",
-        ],
+        &["unknown key `scale`", "allowed keys are name, description, base, ground, bars, bodies, joints"],
     );
 }
 
@@ -261,51 +211,15 @@ fn unknown_top_level_keys_are_rejected() {
 fn wrong_value_types_are_rejected() {
     let joints = "\n[joints]\nA = [0, 0]\nB = [1, 0]\n";
     let case = |top: &str| format!("{top}{joints}");
-    assert_error(
-        &case("name = 5\nbars = [[\"A\", \"B\"]]"),
-        Some(1),
-        &["`name` must be a string", "integer"],
-    );
-    assert_error(
-        &case("name = \"  \"\nbars = [[\"A\", \"B\"]]"),
-        Some(1),
-        &["`name` must not be empty"],
-    );
-    assert_error(
-        &case("description = [1]\nbars = [[\"A\", \"B\"]]"),
-        Some(1),
-        &["`description` must be a string"],
-    );
-    assert_error(
-        &case("bars = \"A-B\""),
-        Some(1),
-        &["`bars` must be an array", "found a string"],
-    );
-    assert_error(
-        &case("bars = [\"A\", \"B\"]"),
-        Some(1),
-        &["bar 1 must be an array", "found a string"],
-    );
-    assert_error(
-        &case("bars = [[\"A\", 2]]"),
-        Some(1),
-        &["bar 1: expected a joint name", "integer"],
-    );
-    assert_error(
-        &case("bars = [[\"A\", \"B\"]]\nbodies = \"ABC\""),
-        Some(2),
-        &["`bodies` must be an array"],
-    );
-    assert_error(
-        &case("bars = [[\"A\", \"B\"]]\nbase = \"A\""),
-        Some(2),
-        &["`base` must be two joint names"],
-    );
-    assert_error(
-        &case("bars = [[\"A\", \"B\"]]\nground = 1"),
-        Some(2),
-        &["`ground` must be one or two joint names"],
-    );
+    assert_error(&case("name = 5\nbars = [[\"A\", \"B\"]]"), Some(1), &["`name` must be a string", "integer"]);
+    assert_error(&case("name = \"  \"\nbars = [[\"A\", \"B\"]]"), Some(1), &["`name` must not be empty"]);
+    assert_error(&case("description = [1]\nbars = [[\"A\", \"B\"]]"), Some(1), &["`description` must be a string"]);
+    assert_error(&case("bars = \"A-B\""), Some(1), &["`bars` must be an array", "found a string"]);
+    assert_error(&case("bars = [\"A\", \"B\"]"), Some(1), &["bar 1 must be an array", "found a string"]);
+    assert_error(&case("bars = [[\"A\", 2]]"), Some(1), &["bar 1: expected a joint name", "integer"]);
+    assert_error(&case("bars = [[\"A\", \"B\"]]\nbodies = \"ABC\""), Some(2), &["`bodies` must be an array"]);
+    assert_error(&case("bars = [[\"A\", \"B\"]]\nbase = \"A\""), Some(2), &["`base` must be two joint names"]);
+    assert_error(&case("bars = [[\"A\", \"B\"]]\nground = 1"), Some(2), &["`ground` must be one or two joint names"]);
     assert_error(
         "[[bars]]\nfrom = \"A\"\n[joints]\nA = [0, 0]\nB = [1, 0]\n",
         Some(1),
@@ -319,87 +233,31 @@ fn wrong_value_types_are_rejected() {
 #[test]
 fn missing_or_empty_joints_are_rejected() {
     assert_error("bars = [[\"A\", \"B\"]]\n", None, &["missing [joints]"]);
-    assert_error(
-        "bars = [[\"A\", \"B\"]]\njoints = 5\n",
-        Some(2),
-        &["`joints` must be a table"],
-    );
-    assert_error(
-        "bars = [[\"A\", \"B\"]]\n[joints]\n",
-        Some(2),
-        &["[joints] lists no joints"],
-    );
+    assert_error("bars = [[\"A\", \"B\"]]\njoints = 5\n", Some(2), &["`joints` must be a table"]);
+    assert_error("bars = [[\"A\", \"B\"]]\n[joints]\n", Some(2), &["[joints] lists no joints"]);
 }
 
 #[test]
 fn missing_bars_are_rejected() {
     assert_error("[joints]\nA = [0, 0]\nB = [1, 0]\n", None, &["no bars"]);
-    assert_error(
-        "bars = []\n[joints]\nA = [0, 0]\nB = [1, 0]\n",
-        Some(1),
-        &["`bars` is empty"],
-    );
+    assert_error("bars = []\n[joints]\nA = [0, 0]\nB = [1, 0]\n", Some(1), &["`bars` is empty"]);
 }
 
 #[test]
 fn bad_joint_coordinates_are_rejected() {
     let case = |b: &str| format!("bars = [[\"A\", \"B\"]]\n[joints]\nA = [0, 0]\nB = {b}\n");
-    assert_error(
-        &case("[1]"),
-        Some(4),
-        &["joint \"B\"", "[x, y]", "found 1 element"],
-    );
-    assert_error(
-        &case("[1, 2, 3]"),
-        Some(4),
-        &["joint \"B\"", "found 3 element"],
-    );
-    assert_error(
-        &case("\"far\""),
-        Some(4),
-        &["joint \"B\"", "found a string"],
-    );
-    assert_error(
-        &case("[1, \"2\"]"),
-        Some(4),
-        &["joint \"B\": y coordinate must be a number"],
-    );
-    assert_error(
-        &case("[nan, 0]"),
-        Some(4),
-        &["joint \"B\": x coordinate must be a finite number, found nan"],
-    );
-    assert_error(
-        &case("[0, -inf]"),
-        Some(4),
-        &["joint \"B\": y coordinate", "-inf"],
-    );
-    assert_error(
-        &case("[1e999, 0]"),
-        Some(4),
-        &["joint \"B\"", "finite", "1e999"],
-    );
-    assert_error(
-        &case("[99999999999999999999999, 0]"),
-        Some(4),
-        &["joint \"B\"", "out of range"],
-    );
-    assert_error(
-        &case("{ x = 1, y = 2 }"),
-        Some(4),
-        &["joint \"B\"", "found a table"],
-    );
+    assert_error(&case("[1]"), Some(4), &["joint \"B\"", "[x, y]", "found 1 element"]);
+    assert_error(&case("[1, 2, 3]"), Some(4), &["joint \"B\"", "found 3 element"]);
+    assert_error(&case("\"far\""), Some(4), &["joint \"B\"", "found a string"]);
+    assert_error(&case("[1, \"2\"]"), Some(4), &["joint \"B\": y coordinate must be a number"]);
+    assert_error(&case("[nan, 0]"), Some(4), &["joint \"B\": x coordinate must be a finite number, found nan"]);
+    assert_error(&case("[0, -inf]"), Some(4), &["joint \"B\": y coordinate", "-inf"]);
+    assert_error(&case("[1e999, 0]"), Some(4), &["joint \"B\"", "finite", "1e999"]);
+    assert_error(&case("[99999999999999999999999, 0]"), Some(4), &["joint \"B\"", "out of range"]);
+    assert_error(&case("{ x = 1, y = 2 }"), Some(4), &["joint \"B\"", "found a table"]);
     let error = assert_error(&case("[1, true]"), Some(4), &["joint \"B\""]);
-    assert_eq!(
-        error.column,
-        Some(9),
-        "the column points at the bad coordinate"
-    );
-    assert_error(
-        "bars = [[\"A\", \"B\"]]\n[joints]\n\"\" = [0, 0]\n",
-        Some(3),
-        &["joint name must not be empty"],
-    );
+    assert_eq!(error.column, Some(9), "the column points at the bad coordinate");
+    assert_error("bars = [[\"A\", \"B\"]]\n[joints]\n\"\" = [0, 0]\n", Some(3), &["joint name must not be empty"]);
     assert_error(
         &case("[1, 0]\nbase = [\"A\", \"B\"]"),
         Some(5),
@@ -409,27 +267,13 @@ fn bad_joint_coordinates_are_rejected() {
 
 #[test]
 fn joints_at_the_same_point_are_rejected() {
-    let case =
-        |b: &str| format!("bars = [[\"A\", \"B\"]]\n[joints]\nA = [1, 2]\nC = [5, 5]\nB = {b}\n");
-    assert_error(
-        &case("[1.0, 2.0]"),
-        Some(5),
-        &["joint \"B\" is drawn at the same point as joint \"A\" (line 3)"],
-    );
-    assert_error(
-        &case("[1.000000000000001, 2]"),
-        Some(5),
-        &["joint \"B\"", "joint \"A\""],
-    );
+    let case = |b: &str| format!("bars = [[\"A\", \"B\"]]\n[joints]\nA = [1, 2]\nC = [5, 5]\nB = {b}\n");
+    assert_error(&case("[1.0, 2.0]"), Some(5), &["joint \"B\" is drawn at the same point as joint \"A\" (line 3)"]);
+    assert_error(&case("[1.000000000000001, 2]"), Some(5), &["joint \"B\"", "joint \"A\""]);
     // Well apart, relative to a huge drawing: still distinct.
-    let scene =
-        parse("bars = [[\"A\", \"B\"]]\n[joints]\nA = [1e300, 0]\nB = [-1e300, 0]\nC = [0, 1]\n");
+    let scene = parse("bars = [[\"A\", \"B\"]]\n[joints]\nA = [1e300, 0]\nB = [-1e300, 0]\nC = [0, 1]\n");
     assert!(scene.is_ok(), "{scene:?}");
-    assert_error(
-        "bars = [[\"A\", \"B\"]]\n[joints]\nA = [1e-300, 0]\nB = [1e-300, 0]\n",
-        Some(4),
-        &["same point"],
-    );
+    assert_error("bars = [[\"A\", \"B\"]]\n[joints]\nA = [1e-300, 0]\nB = [1e-300, 0]\n", Some(4), &["same point"]);
 }
 
 // ---------------------------------------------------------------------------
@@ -451,31 +295,15 @@ fn with_bars(bars: &[&str], extra: &str) -> String {
 #[test]
 fn bad_bars_are_rejected() {
     let ab = r#"["A", "B"]"#;
-    assert_error(
-        &with_bars(&[ab, r#"["X"]"#], ""),
-        Some(3),
-        &["bar 2 (X)", "found 1 element"],
-    );
-    assert_error(
-        &with_bars(&[ab, r#"["B", "C", 1, 2]"#], ""),
-        Some(3),
-        &["bar 2 (B–C)", "found 4 element"],
-    );
+    assert_error(&with_bars(&[ab, r#"["X"]"#], ""), Some(3), &["bar 2 (X)", "found 1 element"]);
+    assert_error(&with_bars(&[ab, r#"["B", "C", 1, 2]"#], ""), Some(3), &["bar 2 (B–C)", "found 4 element"]);
     assert_error(
         &with_bars(&[ab, r#"["B", "C"]"#, r#"["X", "Q"]"#], ""),
         Some(4),
         &["bar 3 (X–Q): unknown joint \"X\""],
     );
-    assert_error(
-        &with_bars(&[ab, r#"["C", "Q"]"#], ""),
-        Some(3),
-        &["bar 2 (C–Q): unknown joint \"Q\""],
-    );
-    assert_error(
-        &with_bars(&[ab, r#"["C", "C"]"#], ""),
-        Some(3),
-        &["bar 2 (C–C)", "to itself"],
-    );
+    assert_error(&with_bars(&[ab, r#"["C", "Q"]"#], ""), Some(3), &["bar 2 (C–Q): unknown joint \"Q\""]);
+    assert_error(&with_bars(&[ab, r#"["C", "C"]"#], ""), Some(3), &["bar 2 (C–C)", "to itself"]);
     assert_error(
         &with_bars(&[ab, r#"["B", "C"]"#, r#"["B", "A"]"#], ""),
         Some(4),
@@ -490,39 +318,14 @@ fn bad_bars_are_rejected() {
 
 #[test]
 fn bad_bar_lengths_are_rejected() {
-    let case =
-        |length: &str| with_bars(&[r#"["A", "B"]"#, &format!(r#"["B", "C", {length}]"#)], "");
-    assert_error(
-        &case("0"),
-        Some(3),
-        &["bar 2 (B–C): length must be positive, found 0"],
-    );
-    assert_error(
-        &case("-0.0"),
-        Some(3),
-        &["bar 2 (B–C): length must be positive"],
-    );
-    assert_error(
-        &case("-2.5"),
-        Some(3),
-        &["bar 2 (B–C): length must be positive, found -2.5"],
-    );
-    assert_error(
-        &case("nan"),
-        Some(3),
-        &["bar 2 (B–C): length must be a finite number, found nan"],
-    );
+    let case = |length: &str| with_bars(&[r#"["A", "B"]"#, &format!(r#"["B", "C", {length}]"#)], "");
+    assert_error(&case("0"), Some(3), &["bar 2 (B–C): length must be positive, found 0"]);
+    assert_error(&case("-0.0"), Some(3), &["bar 2 (B–C): length must be positive"]);
+    assert_error(&case("-2.5"), Some(3), &["bar 2 (B–C): length must be positive, found -2.5"]);
+    assert_error(&case("nan"), Some(3), &["bar 2 (B–C): length must be a finite number, found nan"]);
     assert_error(&case("inf"), Some(3), &["bar 2 (B–C): length", "inf"]);
-    assert_error(
-        &case("\"5\""),
-        Some(3),
-        &["bar 2 (B–C): length must be a number, found a string"],
-    );
-    let error = assert_error(
-        &case("[5]"),
-        Some(3),
-        &["bar 2 (B–C): length must be a number"],
-    );
+    assert_error(&case("\"5\""), Some(3), &["bar 2 (B–C): length must be a number, found a string"]);
+    let error = assert_error(&case("[5]"), Some(3), &["bar 2 (B–C): length must be a number"]);
     assert_eq!(error.column, Some(14));
 }
 
@@ -531,37 +334,12 @@ fn bad_bodies_are_rejected() {
     let bars = [r#"["A", "B"]"#];
     let case = |bodies: &str| with_bars(&bars, &format!("bodies = {bodies}"));
     // The `bodies` line is line 4.
-    assert_error(
-        &case(r#"[["A", "B"]]"#),
-        Some(4),
-        &["body 1 (A–B): a body needs at least 3 joints, found 2"],
-    );
-    assert_error(
-        &case(r#"[["A", "B", "C"], ["A", "Q", "D"]]"#),
-        Some(4),
-        &["body 2 (A–Q–D): unknown joint \"Q\""],
-    );
-    assert_error(
-        &case(r#"[["A", "B", "A"]]"#),
-        Some(4),
-        &["body 1 (A–B–A): joint \"A\" is listed twice"],
-    );
-    assert_error(
-        &case(r#"["A", "B", "C"]"#),
-        Some(4),
-        &["body 1 must be an array"],
-    );
-    let scene = parse(&case(
-        "[\n  [\"A\", \"B\", \"C\"],\n  [\"B\", \"C\", \"D\"],\n]",
-    ))
-    .unwrap();
-    assert_eq!(
-        scene.bodies[1],
-        Body {
-            joints: vec![1, 2, 3],
-            line: 6
-        }
-    );
+    assert_error(&case(r#"[["A", "B"]]"#), Some(4), &["body 1 (A–B): a body needs at least 3 joints, found 2"]);
+    assert_error(&case(r#"[["A", "B", "C"], ["A", "Q", "D"]]"#), Some(4), &["body 2 (A–Q–D): unknown joint \"Q\""]);
+    assert_error(&case(r#"[["A", "B", "A"]]"#), Some(4), &["body 1 (A–B–A): joint \"A\" is listed twice"]);
+    assert_error(&case(r#"["A", "B", "C"]"#), Some(4), &["body 1 must be an array"]);
+    let scene = parse(&case("[\n  [\"A\", \"B\", \"C\"],\n  [\"B\", \"C\", \"D\"],\n]")).unwrap();
+    assert_eq!(scene.bodies[1], Body { joints: vec![1, 2, 3], line: 6 });
 }
 
 // ---------------------------------------------------------------------------
@@ -572,61 +350,26 @@ fn bad_bases_are_rejected() {
     let bars = [r#"["A", "B"]"#, r#"["B", "C"]"#, r#"["C", "D"]"#];
     let case = |base: &str| with_bars(&bars, &format!("base = {base}"));
     // The `base` line is line 6.
-    assert_error(
-        &case(r#"["A"]"#),
-        Some(6),
-        &["base A", "exactly 2 joints, found 1"],
-    );
-    assert_error(
-        &case(r#"["A", "C", "D"]"#),
-        Some(6),
-        &["exactly 2 joints, found 3"],
-    );
-    assert_error(
-        &case(r#"["A", "Q"]"#),
-        Some(6),
-        &["base A–Q: unknown joint \"Q\""],
-    );
-    assert_error(
-        &case(r#"["C", "C"]"#),
-        Some(6),
-        &["base C–C", "must be different"],
-    );
+    assert_error(&case(r#"["A"]"#), Some(6), &["base A", "exactly 2 joints, found 1"]);
+    assert_error(&case(r#"["A", "C", "D"]"#), Some(6), &["exactly 2 joints, found 3"]);
+    assert_error(&case(r#"["A", "Q"]"#), Some(6), &["base A–Q: unknown joint \"Q\""]);
+    assert_error(&case(r#"["C", "C"]"#), Some(6), &["base C–C", "must be different"]);
     assert_error(
         &case(r#"["C", "B"]"#),
         Some(6),
         &["base C–B is a bar; the base must be a non-edge (bar 2 on line 3)"],
     );
-    assert_eq!(
-        parse(&case(r#"["A", "C"]"#)).unwrap().base,
-        Some(([0, 2], 6))
-    );
+    assert_eq!(parse(&case(r#"["A", "C"]"#)).unwrap().base, Some(([0, 2], 6)));
 }
 
 #[test]
 fn bad_grounds_are_rejected() {
     let case = |ground: &str| with_bars(&[r#"["A", "B"]"#], &format!("ground = {ground}"));
     // The `ground` line is line 4.
-    assert_error(
-        &case("[]"),
-        Some(4),
-        &["ground must name 1 or 2 joints, found 0"],
-    );
-    assert_error(
-        &case(r#"["A", "B", "C"]"#),
-        Some(4),
-        &["ground must name 1 or 2 joints, found 3"],
-    );
-    assert_error(
-        &case(r#"["A", "Z"]"#),
-        Some(4),
-        &["ground: unknown joint \"Z\""],
-    );
-    assert_error(
-        &case(r#"["D", "D"]"#),
-        Some(4),
-        &["ground: joint \"D\" is listed twice"],
-    );
+    assert_error(&case("[]"), Some(4), &["ground must name 1 or 2 joints, found 0"]);
+    assert_error(&case(r#"["A", "B", "C"]"#), Some(4), &["ground must name 1 or 2 joints, found 3"]);
+    assert_error(&case(r#"["A", "Z"]"#), Some(4), &["ground: unknown joint \"Z\""]);
+    assert_error(&case(r#"["D", "D"]"#), Some(4), &["ground: joint \"D\" is listed twice"]);
     assert_eq!(parse(&case(r#"["D"]"#)).unwrap().ground, [3]);
 }
 
@@ -641,28 +384,12 @@ fn every_bundled_scene_parses() {
     assert_eq!(names.len(), BUNDLED.len(), "bundled names are unique");
     for bundled in BUNDLED {
         let scene = load(bundled.name).unwrap_or_else(|e| panic!("{e}"));
-        assert!(
-            !scene.name.trim().is_empty(),
-            "{}: empty name",
-            bundled.name
-        );
-        assert!(
-            scene
-                .description
-                .as_deref()
-                .is_some_and(|d| !d.trim().is_empty()),
-            "{}: no description",
-            bundled.name
-        );
+        assert!(!scene.name.trim().is_empty(), "{}: empty name", bundled.name);
+        assert!(scene.description.as_deref().is_some_and(|d| !d.trim().is_empty()), "{}: no description", bundled.name);
         assert_eq!(scene.source, format!("bundled:{}", bundled.name));
         for bar in scene.bars.iter().filter(|bar| bar.length.is_none()) {
             let [a, b] = bar.joints.map(|j| scene.joints[j].pos);
-            assert!(
-                (a[0] - b[0]).hypot(a[1] - b[1]) > 0.0,
-                "{}: bar on line {}",
-                bundled.name,
-                bar.line
-            );
+            assert!((a[0] - b[0]).hypot(a[1] - b[1]) > 0.0, "{}: bar on line {}", bundled.name, bar.line);
         }
     }
     assert!(find(DEFAULT_SCENE).is_some());
@@ -674,30 +401,11 @@ fn bundled_scenes_have_the_stated_lengths() {
         let scene = load(name).unwrap();
         for &(a, b, length) in lengths {
             let drawn = distance(&scene, a, b);
-            assert!(
-                (drawn - length).abs() < 1e-9,
-                "{name}: |{a}{b}| = {drawn}, want {length}"
-            );
+            assert!((drawn - length).abs() < 1e-9, "{name}: |{a}{b}| = {drawn}, want {length}");
         }
     };
-    check(
-        "fourbar-crank-rocker",
-        &[
-            ("A", "B", 1.0),
-            ("B", "C", 4.0),
-            ("C", "D", 3.0),
-            ("D", "A", 3.5),
-        ],
-    );
-    check(
-        "fourbar-non-grashof",
-        &[
-            ("A", "B", 3.0),
-            ("B", "C", 4.0),
-            ("C", "D", 2.5),
-            ("D", "A", 5.0),
-        ],
-    );
+    check("fourbar-crank-rocker", &[("A", "B", 1.0), ("B", "C", 4.0), ("C", "D", 3.0), ("D", "A", 3.5)]);
+    check("fourbar-non-grashof", &[("A", "B", 3.0), ("B", "C", 4.0), ("C", "D", 2.5), ("D", "A", 5.0)]);
     check(
         "jansen",
         &[
@@ -715,35 +423,20 @@ fn bundled_scenes_have_the_stated_lengths() {
         ],
     );
     let jansen = load("jansen").unwrap();
-    assert_eq!(
-        jansen.joints[jansen.joint_index("P").unwrap()].pos,
-        [-38.0, -7.8]
-    );
+    assert_eq!(jansen.joints[jansen.joint_index("P").unwrap()].pos, [-38.0, -7.8]);
     let peaucellier = load("peaucellier").unwrap();
-    let [ob, od] = [
-        distance(&peaucellier, "O", "B"),
-        distance(&peaucellier, "O", "D"),
-    ];
+    let [ob, od] = [distance(&peaucellier, "O", "B"), distance(&peaucellier, "O", "D")];
     assert!((ob - od).abs() < 1e-9);
     let rhombus = ["CB", "BP", "PD", "DC"].map(|s| distance(&peaucellier, &s[..1], &s[1..]));
-    assert!(
-        rhombus.iter().all(|side| (side - rhombus[0]).abs() < 1e-9),
-        "{rhombus:?}"
-    );
+    assert!(rhombus.iter().all(|side| (side - rhombus[0]).abs() < 1e-9), "{rhombus:?}");
     assert!((distance(&peaucellier, "O", "A") - distance(&peaucellier, "A", "C")).abs() < 1e-9);
 }
 
 #[test]
 fn resolve_finds_defaults_files_and_bundled_names() {
-    assert_eq!(
-        resolve(None).unwrap().source,
-        format!("bundled:{DEFAULT_SCENE}")
-    );
+    assert_eq!(resolve(None).unwrap().source, format!("bundled:{DEFAULT_SCENE}"));
     assert_eq!(resolve(Some("watt")).unwrap().source, "bundled:watt");
-    assert_eq!(
-        resolve(Some("bundled:limacon")).unwrap().source,
-        "bundled:limacon"
-    );
+    assert_eq!(resolve(Some("bundled:limacon")).unwrap().source, "bundled:limacon");
 
     let path = temp_path("resolve.toml");
     std::fs::write(&path, find("fig1b").unwrap().text).unwrap();
@@ -754,10 +447,7 @@ fn resolve_finds_defaults_files_and_bundled_names() {
     let error = resolve(Some("no-such-linkage.toml")).unwrap_err();
     assert_eq!(error.file, "no-such-linkage.toml");
     assert!(error.message.contains("no such file"), "{error}");
-    assert!(
-        error.message.contains("jansen, fourbar-crank-rocker"),
-        "{error}"
-    );
+    assert!(error.message.contains("jansen, fourbar-crank-rocker"), "{error}");
     assert!(load("nope").is_err());
 }
 
@@ -795,12 +485,10 @@ fn mutation() -> impl Strategy<Value = Mutation> {
     let interesting = prop::sample::select(b"[]{}=,.\"'#\n -0123456789eEinfaxABOPXYZ".to_vec());
     prop_oneof![
         any::<usize>().prop_map(Mutation::Delete),
-        (any::<usize>(), prop_oneof![interesting, any::<u8>()])
-            .prop_map(|(at, b)| Mutation::Insert(at, b)),
+        (any::<usize>(), prop_oneof![interesting, any::<u8>()]).prop_map(|(at, b)| Mutation::Insert(at, b)),
         (any::<usize>(), any::<usize>()).prop_map(|(i, j)| Mutation::Swap(i, j)),
         any::<usize>().prop_map(Mutation::Truncate),
-        (any::<usize>(), prop::sample::select(AWKWARD_NUMBERS))
-            .prop_map(|(n, s)| Mutation::ReplaceNumber(n, s)),
+        (any::<usize>(), prop::sample::select(AWKWARD_NUMBERS)).prop_map(|(n, s)| Mutation::ReplaceNumber(n, s)),
     ]
 }
 
@@ -809,14 +497,10 @@ fn number_ranges(text: &[u8]) -> Vec<(usize, usize)> {
     let mut ranges = Vec::new();
     let mut i = 0;
     while i < text.len() {
-        let starts = text[i].is_ascii_digit()
-            || (text[i] == b'-' && text.get(i + 1).is_some_and(u8::is_ascii_digit));
+        let starts = text[i].is_ascii_digit() || (text[i] == b'-' && text.get(i + 1).is_some_and(u8::is_ascii_digit));
         if starts && (i == 0 || !text[i - 1].is_ascii_alphanumeric()) {
             let end = (i + 1..text.len())
-                .find(|&j| {
-                    !(text[j].is_ascii_alphanumeric()
-                        || matches!(text[j], b'.' | b'_' | b'-' | b'+'))
-                })
+                .find(|&j| !(text[j].is_ascii_alphanumeric() || matches!(text[j], b'.' | b'_' | b'-' | b'+')))
                 .unwrap_or(text.len());
             ranges.push((i, end));
             i = end;
@@ -851,22 +535,12 @@ fn apply(text: &mut Vec<u8>, mutation: &Mutation) {
 fn check_invariants(scene: &Scene) {
     let n = scene.joints.len();
     assert!(n >= 2 && !scene.bars.is_empty());
-    assert!(
-        scene
-            .joints
-            .iter()
-            .all(|j| j.pos.iter().all(|c| c.is_finite()))
-    );
+    assert!(scene.joints.iter().all(|j| j.pos.iter().all(|c| c.is_finite())));
     for bar in &scene.bars {
         assert!(bar.joints[0] != bar.joints[1] && bar.joints.iter().all(|&j| j < n));
         assert!(bar.length.is_none_or(|l| l.is_finite() && l > 0.0));
     }
-    assert!(
-        scene
-            .bodies
-            .iter()
-            .all(|b| b.joints.len() >= 3 && b.joints.iter().all(|&j| j < n))
-    );
+    assert!(scene.bodies.iter().all(|b| b.joints.len() >= 3 && b.joints.iter().all(|&j| j < n)));
     assert!((1..=2).contains(&scene.ground.len()) && scene.ground.iter().all(|&j| j < n));
     if let Some(([a, b], _)) = scene.base {
         assert!(a != b && a < n && b < n);
@@ -876,10 +550,7 @@ fn check_invariants(scene: &Scene) {
 fn check_never_panics(text: &str) {
     match parse_scene(text, "fuzz.toml", "fuzz") {
         Ok(scene) => check_invariants(&scene),
-        Err(error) => assert!(
-            !error.to_string().contains('\n'),
-            "multi-line error: {error}"
-        ),
+        Err(error) => assert!(!error.to_string().contains('\n'), "multi-line error: {error}"),
     }
 }
 

@@ -1,0 +1,554 @@
+//! Oriented and non-oriented Cayley configuration spaces (THEORY.md §2).
+//!
+//! A depth-first sweep over type prefixes: the prefix of bits 1..k−1 fixes
+//! d_k(λ), and so the set of λ where steps 1..k close. Refining that set by
+//! step k needs the roots of d_k(λ) = r1 + r2 (stretched) and
+//! d_k(λ) = |r1 − r2| (folded) inside it:
+//! - **exact** (LCC): the closed-form candidates of [`crate::invert`], each
+//!   checked against this prefix;
+//! - **numeric** (any linkage, and the only way for non-LCC steps): a
+//!   bracketing search described at [`numeric_roots`].
+//!
+//! Each root is classified by the sign of the step's slack on either side,
+//! read from its first derivative (or second, at a tangency) computed
+//! exactly by forward differentiation ([`Jet`]), not by realizing at
+//! midpoints with a tolerance. A gap between roots without any root inside
+//! has constant sign, so its interior value decides only when no root
+//! bounds it.
+//!
+//! Generic over the scalar type so that a double-double run is the reference.
+
+use std::cmp::Ordering;
+
+use crate::complexity::Complexity;
+use crate::decompose::Decomposition;
+use crate::invert::Inverter;
+use crate::real::{Jet, Real};
+use crate::realize::{Construction, RealizationType};
+use crate::tolerance;
+
+/// How a step is flat at an endpoint.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Kind {
+    /// d = r1 + r2
+    Stretched,
+    /// d = |r1 − r2|
+    Folded,
+}
+
+impl Kind {
+    pub fn name(self) -> &'static str {
+        match self {
+            Kind::Stretched => "stretched",
+            Kind::Folded => "folded",
+        }
+    }
+}
+
+/// Step `step` is flat (`kind`) at an endpoint.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct Event {
+    pub step: usize,
+    pub kind: Kind,
+}
+
+/// An interval end: its λ, the flat steps there (one in a generic scene),
+/// and an id shared by every type whose interval ends at this same root.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Endpoint<T> {
+    pub lambda: T,
+    pub events: Vec<Event>,
+    pub id: usize,
+}
+
+/// A maximal closed λ-interval on which one realization type exists
+/// (`lower == upper` for an isolated point).
+#[derive(Clone, Debug, PartialEq)]
+pub struct OrientedInterval<T> {
+    pub ty: RealizationType,
+    pub lower: Endpoint<T>,
+    pub upper: Endpoint<T>,
+}
+
+/// Something special found while computing: a non-generic event, or a place
+/// where the method could not decide.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Note {
+    /// Two or more steps flat at the same λ (a possible branch point).
+    Coincident { lambda: f64, events: Vec<Event> },
+    /// The slack of a step touches zero without changing sign: an isolated
+    /// realizable point (`inside == false`) or a touch inside an interval.
+    Tangency { lambda: f64, event: Event, inside: bool },
+    /// Roots or signs that could not be separated at working precision.
+    Unresolved { lambda: f64, step: usize, detail: String },
+    /// The base length reaches zero (the base joints coincide).
+    ZeroBase { step: usize },
+    /// Step `step`'s base joints coincide all along a piece of λ: its vertex
+    /// is free to turn (an extra degree of freedom, as in a folded rhombus).
+    /// Those types have no realization there.
+    Degenerate { lambda: [f64; 2], step: usize },
+}
+
+/// How endpoints were found.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Method {
+    /// Closed form for LCC steps (numeric only where the four-cycle test failed).
+    Exact,
+    /// The numeric root search for every step, with this many samples per piece.
+    Numeric { samples: usize },
+}
+
+#[derive(Clone, Debug)]
+pub struct CayleySpace<T> {
+    /// Sorted by type, then λ.
+    pub intervals: Vec<OrientedInterval<T>>,
+    pub notes: Vec<Note>,
+    pub method: Method,
+    /// Steps whose endpoints came from the numeric search.
+    pub numeric_steps: Vec<usize>,
+}
+
+#[derive(Clone, Debug)]
+struct Piece<T> {
+    lo: Endpoint<T>,
+    hi: Endpoint<T>,
+}
+
+/// Where a root sits relative to the piece being refined.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum At {
+    Lo,
+    Inside,
+    Hi,
+}
+
+#[derive(Clone, Copy, Debug)]
+struct Root<T> {
+    lambda: T,
+    kind: Kind,
+    at: At,
+    /// Sign of the slack just left / right of the root: +1 feasible, −1 not, 0 unknown.
+    left: i8,
+    right: i8,
+}
+
+fn sign<T: Real>(x: T) -> i8 {
+    if x > T::zero() {
+        1
+    } else if x < T::zero() {
+        -1
+    } else {
+        0
+    }
+}
+
+fn cmp<T: Real>(a: &T, b: &T) -> Ordering {
+    a.partial_cmp(b).unwrap_or(Ordering::Equal)
+}
+
+struct Sweep<'a, T: Real> {
+    con: &'a Construction<T>,
+    jet: Construction<Jet<T>>,
+    /// Per step: closed-form candidates for [stretched, folded], or `None` to search numerically.
+    exact: Vec<Option<[Vec<T>; 2]>>,
+    samples: usize,
+    next_id: usize,
+    notes: Vec<Note>,
+    out: Vec<OrientedInterval<T>>,
+}
+
+/// Compute the oriented intervals of every type.
+pub fn cayley_space<T: Real>(
+    con: &Construction<T>,
+    jet: Construction<Jet<T>>,
+    dec: &Decomposition,
+    cx: &Complexity,
+    method: Method,
+) -> CayleySpace<T> {
+    let n = con.steps.len();
+    let inverter = Inverter { con, dec, cx };
+    let mut numeric_steps = Vec::new();
+    let exact: Vec<Option<[Vec<T>; 2]>> = (0..n)
+        .map(|k| {
+            let closed_form = con.on_base(k) || (matches!(method, Method::Exact) && cx.carriers[k].is_some());
+            if !closed_form {
+                numeric_steps.push(k);
+                return None;
+            }
+            let s = &con.steps[k];
+            Some([inverter.candidates(k, s.r1 + s.r2), inverter.candidates(k, (s.r1 - s.r2).abs())])
+        })
+        .collect();
+    let samples = match method {
+        Method::Numeric { samples } => samples.max(4),
+        Method::Exact => 32,
+    };
+    let mut sweep = Sweep { con, jet, exact, samples, next_id: 0, notes: Vec::new(), out: Vec::new() };
+    // Start from (0, sentinel): every root of the first step lies below the sentinel.
+    let top = (0..n)
+        .filter(|&k| con.on_base(k))
+        .map(|k| con.steps[k].r1 + con.steps[k].r2)
+        .fold(T::from_f64(f64::INFINITY), |a, b| if b < a { b } else { a });
+    let top = top + top + T::from_f64(con.scale);
+    let lo = sweep.endpoint(T::zero(), Vec::new());
+    let hi = sweep.endpoint(top, Vec::new());
+    let mut bits = Vec::with_capacity(n);
+    sweep.descend(0, &mut bits, vec![Piece { lo, hi }]);
+    let mut intervals = sweep.out;
+    intervals.sort_by(|a, b| a.ty.cmp(&b.ty).then(cmp(&a.lower.lambda, &b.lower.lambda)));
+    let mut notes = sweep.notes;
+    notes.dedup();
+    CayleySpace { intervals, notes, method, numeric_steps }
+}
+
+impl<T: Real> Sweep<'_, T> {
+    fn endpoint(&mut self, lambda: T, events: Vec<Event>) -> Endpoint<T> {
+        self.next_id += 1;
+        Endpoint { lambda, events, id: self.next_id }
+    }
+
+    fn descend(&mut self, k: usize, bits: &mut Vec<bool>, pieces: Vec<Piece<T>>) {
+        if k == self.con.steps.len() {
+            for p in pieces {
+                self.out.push(OrientedInterval { ty: RealizationType(bits.clone()), lower: p.lo, upper: p.hi });
+            }
+            return;
+        }
+        let refined: Vec<Piece<T>> = pieces.into_iter().flat_map(|p| self.refine(k, bits, p)).collect();
+        if refined.is_empty() {
+            return;
+        }
+        for b in [true, false] {
+            bits.push(b);
+            self.descend(k + 1, bits, refined.clone());
+            bits.pop();
+        }
+    }
+
+    /// d_k at λ for the prefix `bits`, with its first and second derivative.
+    fn distance(&self, k: usize, bits: &[bool], lambda: T) -> Option<Jet<T>> {
+        let pos = self.jet.realize_prefix(Jet::variable(lambda), bits, k).ok()?;
+        let d = self.jet.base_distance(&pos, k);
+        (d.v.to_f64().is_finite()).then_some(d)
+    }
+
+    /// Slack of step k as a jet (value, slope, curvature).
+    fn slack(&self, k: usize, kind: Kind, d: Jet<T>) -> Jet<T> {
+        let s = &self.con.steps[k];
+        match kind {
+            Kind::Stretched => Jet::constant(s.r1 + s.r2) - d,
+            Kind::Folded => d - Jet::constant((s.r1 - s.r2).abs()),
+        }
+    }
+
+    fn target(&self, k: usize, kind: Kind) -> T {
+        let s = &self.con.steps[k];
+        match kind {
+            Kind::Stretched => s.r1 + s.r2,
+            Kind::Folded => (s.r1 - s.r2).abs(),
+        }
+    }
+
+    /// Signs of the slack left and right of a root, from its slope, or from
+    /// its curvature at a tangency.
+    fn side_signs(&self, sl: Jet<T>) -> (i8, i8) {
+        let slope_tol = T::from_f64(tolerance::tangent_slope(T::UNIT_ROUNDOFF));
+        if sl.d.abs() > slope_tol {
+            (-sign(sl.d), sign(sl.d))
+        } else {
+            let c = sign(sl.s);
+            (c, c)
+        }
+    }
+
+    /// The roots of d_k = target inside `piece` (or at its ends).
+    fn roots(&mut self, k: usize, bits: &[bool], piece: &Piece<T>) -> Vec<Root<T>> {
+        let scale = T::from_f64(self.con.scale);
+        let coincide = T::from_f64(tolerance::EVENTS_COINCIDE) * scale;
+        let (lo, hi) = (piece.lo.lambda, piece.hi.lambda);
+        let mut roots = Vec::new();
+        for (ki, kind) in [Kind::Stretched, Kind::Folded].into_iter().enumerate() {
+            let t = self.target(k, kind);
+            let candidates: Vec<T> = match &self.exact[k] {
+                Some(c) => c[ki].iter().copied().filter(|&x| x >= lo - coincide && x <= hi + coincide).collect(),
+                None => self.numeric_roots(k, bits, piece, t),
+            };
+            for lambda in candidates {
+                let at = if (lambda - lo).abs() <= coincide {
+                    At::Lo
+                } else if (lambda - hi).abs() <= coincide {
+                    At::Hi
+                } else {
+                    At::Inside
+                };
+                let lambda = match at {
+                    At::Lo => lo,
+                    At::Hi => hi,
+                    At::Inside => lambda,
+                };
+                let Some(d) = self.distance(k, bits, lambda) else { continue };
+                let g = d - Jet::constant(t);
+                let accepted = g.v.abs() <= T::from_f64(tolerance::ROOT_VALUE) * scale
+                    || (g.v / g.d).abs() <= T::from_f64(tolerance::ROOT_STEP) * scale;
+                if !accepted || !(g.d.to_f64().is_finite() || at != At::Inside) {
+                    continue;
+                }
+                let (left, right) = self.side_signs(self.slack(k, kind, d));
+                roots.push(Root { lambda, kind, at, left, right });
+            }
+        }
+        roots.sort_by(|a, b| cmp(&a.lambda, &b.lambda));
+        roots.dedup_by(|a, b| a.lambda == b.lambda && a.kind == b.kind);
+        roots
+    }
+
+    /// Split `piece` by the slack of step k into the parts where it closes.
+    fn refine(&mut self, k: usize, bits: &[bool], piece: Piece<T>) -> Vec<Piece<T>> {
+        let roots = self.roots(k, bits, &piece);
+        if piece.lo.lambda == piece.hi.lambda {
+            return self.refine_point(k, bits, piece, &roots);
+        }
+        let event = |r: &Root<T>| Event { step: k, kind: r.kind };
+        let inside: Vec<Root<T>> = roots.iter().copied().filter(|r| r.at == At::Inside).collect();
+        let at_lo: Vec<Root<T>> = roots.iter().copied().filter(|r| r.at == At::Lo).collect();
+        let at_hi: Vec<Root<T>> = roots.iter().copied().filter(|r| r.at == At::Hi).collect();
+        // Boundaries and the feasibility of each gap between them.
+        let n_gaps = inside.len() + 1;
+        let mut feasible = vec![false; n_gaps];
+        for (g, slot) in feasible.iter_mut().enumerate() {
+            let from_left = if g == 0 { at_lo.first().map(|r| r.right) } else { Some(inside[g - 1].right) };
+            let from_right = if g == n_gaps - 1 { at_hi.first().map(|r| r.left) } else { Some(inside[g].left) };
+            let a = if g == 0 { piece.lo.lambda } else { inside[g - 1].lambda };
+            let b = if g == n_gaps - 1 { piece.hi.lambda } else { inside[g].lambda };
+            *slot = match (from_left.filter(|&s| s != 0), from_right.filter(|&s| s != 0)) {
+                (Some(x), Some(y)) if x == y => x > 0,
+                (Some(x), None) | (None, Some(x)) => x > 0,
+                (l, r) => {
+                    if l.is_some() && r.is_some() {
+                        self.notes.push(Note::Unresolved {
+                            lambda: a.to_f64(),
+                            step: k,
+                            detail: "the slack's sign on one gap disagrees between its two roots".into(),
+                        });
+                    }
+                    self.gap_sign(k, bits, a, b) > 0
+                }
+            };
+        }
+        // Walk the gaps, emitting maximal feasible runs and isolated roots.
+        let mut out = Vec::new();
+        let mut start: Option<Endpoint<T>> = None;
+        for g in 0..n_gaps {
+            if feasible[g] && start.is_none() {
+                start = Some(if g == 0 {
+                    self.with_coincident(piece.lo.clone(), &at_lo, k)
+                } else {
+                    let r = inside[g - 1];
+                    self.endpoint(r.lambda, vec![event(&r)])
+                });
+            }
+            if g == n_gaps - 1 {
+                if let Some(lo) = start.take() {
+                    let hi = self.with_coincident(piece.hi.clone(), &at_hi, k);
+                    out.push(Piece { lo, hi });
+                }
+                break;
+            }
+            let r = inside[g];
+            match (feasible[g], feasible[g + 1]) {
+                (true, true) => {
+                    self.notes.push(Note::Tangency { lambda: r.lambda.to_f64(), event: event(&r), inside: true })
+                }
+                (true, false) => {
+                    let hi = self.endpoint(r.lambda, vec![event(&r)]);
+                    out.push(Piece { lo: start.take().expect("open run"), hi });
+                }
+                (false, false) => {
+                    self.notes.push(Note::Tangency { lambda: r.lambda.to_f64(), event: event(&r), inside: false });
+                    let p = self.endpoint(r.lambda, vec![event(&r)]);
+                    out.push(Piece { lo: p.clone(), hi: p });
+                }
+                (false, true) => {}
+            }
+        }
+        out
+    }
+
+    /// An isolated point from earlier steps survives step k if k closes there.
+    fn refine_point(&mut self, k: usize, bits: &[bool], piece: Piece<T>, roots: &[Root<T>]) -> Vec<Piece<T>> {
+        let flat: Vec<Root<T>> = roots.iter().copied().filter(|r| r.at != At::Inside).collect();
+        if !flat.is_empty() {
+            let lo = self.with_coincident(piece.lo, &flat, k);
+            return vec![Piece { lo: lo.clone(), hi: lo }];
+        }
+        let lambda = piece.lo.lambda;
+        let ok = self.distance(k, bits, lambda).is_some_and(|d| {
+            let s = &self.con.steps[k];
+            crate::realize::slack(s.r1, s.r2, d.v) >= T::zero()
+        });
+        if ok { vec![piece] } else { Vec::new() }
+    }
+
+    /// Add step k's flat events at an inherited endpoint (two steps flat at once).
+    fn with_coincident(&mut self, mut end: Endpoint<T>, roots: &[Root<T>], k: usize) -> Endpoint<T> {
+        for r in roots {
+            let e = Event { step: k, kind: r.kind };
+            if !end.events.contains(&e) {
+                end.events.push(e);
+            }
+        }
+        if end.events.len() > 1 {
+            self.notes.push(Note::Coincident { lambda: end.lambda.to_f64(), events: end.events.clone() });
+        }
+        if end.lambda == T::zero() && !end.events.is_empty() {
+            self.notes.push(Note::ZeroBase { step: k });
+        }
+        end
+    }
+
+    /// Sign of step k's slack inside a gap known to hold no root.
+    fn gap_sign(&mut self, k: usize, bits: &[bool], a: T, b: T) -> i8 {
+        let mid = (a + b) / T::from_f64(2.0);
+        match self.distance(k, bits, mid) {
+            Some(d) if d.v > T::zero() => {
+                let s = &self.con.steps[k];
+                sign(crate::realize::slack(s.r1, s.r2, d.v))
+            }
+            _ => {
+                self.notes.push(Note::Degenerate { lambda: [a.to_f64(), b.to_f64()], step: k });
+                -1
+            }
+        }
+    }
+
+    /// Numeric roots of g(λ) = d_k(λ) − t on a piece.
+    ///
+    /// Samples at λ = lo + (hi − lo)(1 − cos θ)/2 for equally spaced θ (dense
+    /// near the piece ends, where d_k behaves like a square root). A gap whose
+    /// ends have g″ of opposite sign is split at the inflection (bisection on
+    /// g″), so every gap examined has g″ of one sign at both ends. There a
+    /// sign change of g is a root (bisection to full precision), and a sign
+    /// change of g′ is an extremum (bisection on g′) whose value decides
+    /// between no root, a tangent (double) root, and two roots.
+    /// Guarantee: every root is found provided no gap between samples holds
+    /// two inflections of d_k with g″ of equal sign at its ends (g″ would
+    /// change sign twice within 1/N of the piece); a near-double root whose
+    /// extremum value is within [`tolerance::ROOT_VALUE`] of zero is reported
+    /// as one tangent root and flagged [`Note::Unresolved`].
+    fn numeric_roots(&mut self, k: usize, bits: &[bool], piece: &Piece<T>, t: T) -> Vec<T> {
+        let (lo, hi) = (piece.lo.lambda, piece.hi.lambda);
+        let eval = |this: &Self, x: T| this.distance(k, bits, x).map(|d| d - Jet::constant(t));
+        let n = self.samples;
+        let half = T::from_f64(0.5);
+        let xs: Vec<T> = (0..=n)
+            .map(|i| {
+                let c = (std::f64::consts::PI * i as f64 / n as f64).cos();
+                lo + (hi - lo) * half * T::from_f64(1.0 - c)
+            })
+            .collect();
+        let mut roots = Vec::new();
+        for w in xs.windows(2) {
+            self.numeric_gap(k, w[0], w[1], &eval, 0, &mut roots);
+        }
+        roots
+    }
+
+    fn numeric_gap(
+        &mut self,
+        k: usize,
+        a: T,
+        b: T,
+        eval: &dyn Fn(&Self, T) -> Option<Jet<T>>,
+        depth: u32,
+        roots: &mut Vec<T>,
+    ) {
+        const MAX_DEPTH: u32 = 40;
+        let (Some(ga), Some(gb)) = (eval(self, a), eval(self, b)) else { return };
+        let finite = |g: &Jet<T>| g.d.to_f64().is_finite() && g.s.to_f64().is_finite();
+        let value_change = sign(ga.v) * sign(gb.v) < 0;
+        if ga.v == T::zero() {
+            roots.push(a);
+        }
+        if !(finite(&ga) && finite(&gb)) {
+            // Next to a piece end d_k behaves like a square root: monotone, so
+            // a sign change of g is all there is to find.
+            if value_change {
+                roots.push(bisect(a, b, |x| eval(self, x).map(|g| sign(g.v))));
+            }
+            return;
+        }
+        if sign(ga.s) * sign(gb.s) < 0 {
+            // An inflection inside: split there, so each half has at most one extremum.
+            let c = bisect(a, b, |x| eval(self, x).map(|g| sign(g.s)));
+            // An inflection at an end (where a previous split put it) is that end's.
+            let margin = (b - a) * T::from_f64(1e-6);
+            if c - a > margin && b - c > margin {
+                if depth < MAX_DEPTH {
+                    self.numeric_gap(k, a, c, eval, depth + 1, roots);
+                    self.numeric_gap(k, c, b, eval, depth + 1, roots);
+                } else {
+                    self.notes.push(Note::Unresolved {
+                        lambda: a.to_f64(),
+                        step: k,
+                        detail: "the root search could not separate the inflections of d_k".into(),
+                    });
+                }
+                return;
+            }
+        }
+        if value_change {
+            roots.push(bisect(a, b, |x| eval(self, x).map(|g| sign(g.v))));
+            return;
+        }
+        if sign(ga.d) * sign(gb.d) < 0 {
+            let e = bisect(a, b, |x| eval(self, x).map(|g| sign(g.d)));
+            let Some(ge) = eval(self, e) else { return };
+            let tol = T::from_f64(tolerance::ROOT_VALUE * self.con.scale);
+            if ge.v.abs() <= tol {
+                roots.push(e);
+                if sign(ge.v) != 0 {
+                    self.notes.push(Note::Unresolved {
+                        lambda: e.to_f64(),
+                        step: k,
+                        detail: "a near-double root: two endpoints or none, not separable at this precision".into(),
+                    });
+                }
+            } else if sign(ge.v) * sign(ga.v) < 0 {
+                roots.push(bisect(a, e, |x| eval(self, x).map(|g| sign(g.v))));
+                roots.push(bisect(e, b, |x| eval(self, x).map(|g| sign(g.v))));
+            }
+        }
+    }
+}
+
+/// Bisection on a sign function with different signs at `a` and `b`, to full precision.
+fn bisect<T: Real>(mut a: T, mut b: T, f: impl Fn(T) -> Option<i8>) -> T {
+    let sa = f(a).unwrap_or(0);
+    for _ in 0..200 {
+        let m = (a + b) / T::from_f64(2.0);
+        if !(m > a && m < b) {
+            break;
+        }
+        match f(m) {
+            Some(0) => return m,
+            Some(s) if s == sa => a = m,
+            _ => b = m,
+        }
+    }
+    (a + b) / T::from_f64(2.0)
+}
+
+/// The non-oriented Cayley space: the union of all oriented intervals.
+pub fn union<T: Real>(intervals: &[OrientedInterval<T>], scale: f64) -> Vec<[f64; 2]> {
+    let mut spans: Vec<[f64; 2]> =
+        intervals.iter().map(|i| [i.lower.lambda.to_f64(), i.upper.lambda.to_f64()]).collect();
+    spans.sort_by(|a, b| a[0].total_cmp(&b[0]));
+    let mut out: Vec<[f64; 2]> = Vec::new();
+    for s in spans {
+        match out.last_mut() {
+            Some(last) if s[0] <= last[1] + tolerance::UNION_GAP * scale => last[1] = last[1].max(s[1]),
+            _ => out.push(s),
+        }
+    }
+    out
+}
