@@ -34,6 +34,13 @@ impl SceneBuilder {
         self
     }
 
+    /// A bar with a stated length (the drawing becomes a sketch).
+    pub fn bar_len(&mut self, a: &str, b: &str, length: f64) -> &mut Self {
+        let joints = [self.index(a), self.index(b)];
+        self.bars.push(Bar { joints, length: Some(length), line: 0 });
+        self
+    }
+
     pub fn bar_ix(&mut self, a: usize, b: usize, length: Option<f64>) -> &mut Self {
         self.bars.push(Bar { joints: [a, b], length, line: 0 });
         self

@@ -265,12 +265,16 @@ impl Report {
             let _ = writeln!(o, "{:<24}λ = {}  type {}", "Drawn realization", fmt_num(d.lambda), d.ty);
         }
         if let Some(s) = &self.sketch {
+            let moved = if s.max_joint_move.is_finite() {
+                format!("joints moved up to {}", fmt_sci(s.max_joint_move))
+            } else {
+                "the drawn type has no realization (see warnings)".to_string()
+            };
             let _ = writeln!(
                 o,
-                "{:<24}stated lengths differ from the drawing by up to {}; joints moved up to {}",
+                "{:<24}stated lengths differ from the drawing by up to {}; {moved}",
                 "Sketch",
-                fmt_sci(s.max_length_change),
-                fmt_sci(s.max_joint_move)
+                fmt_sci(s.max_length_change)
             );
         }
         let _ = writeln!(o);

@@ -1,0 +1,346 @@
+//! Issue 3: exact Cayley configuration spaces, checked against closed forms,
+//! the worked examples of THEORY.md §7, and a double-double reference.
+
+use caymos::analysis::{Solved, analyse, reference_accuracy};
+use caymos::builder::SceneBuilder;
+use caymos::bundled;
+use caymos::cayley_space::{Kind, Method, Note, cayley_space};
+use caymos::generate::random_linkage;
+use caymos::linkage::Linkage;
+use caymos::real::Jet;
+use caymos::realize::{Construction, slack};
+use caymos::scene::Scene;
+use proptest::prelude::*;
+
+fn solve(scene: Scene) -> (Linkage, Solved) {
+    let a = analyse(scene, None).unwrap();
+    let s = a.outcome.clone().unwrap_or_else(|o| panic!("{}", o.describe(&a.linkage)));
+    (a.linkage, s)
+}
+
+/// f64 endpoints within 1e-12 × scale of the double-double reference, same structure.
+fn assert_matches_reference(l: &Linkage, s: &Solved) {
+    let acc = reference_accuracy(l, &s.dec, &s.complexity, &s.space).expect("reference runs");
+    assert!(acc.same_structure, "f64 and double-double disagree on the intervals");
+    assert!(acc.max_relative_error <= 1e-12, "endpoint error {:e} relative", acc.max_relative_error);
+}
+
+/// The closed-form and numeric methods find the same intervals (two independent computations).
+fn assert_methods_agree(l: &Linkage, s: &Solved) {
+    let jet = s.construction.convert::<Jet<f64>>();
+    let numeric = cayley_space(&s.construction, jet, &s.dec, &s.complexity, Method::Numeric { samples: 24 });
+    assert_eq!(numeric.intervals.len(), s.space.intervals.len(), "interval counts differ");
+    for (n, e) in numeric.intervals.iter().zip(&s.space.intervals) {
+        assert_eq!(n.ty, e.ty);
+        assert!((n.lower.lambda - e.lower.lambda).abs() <= 1e-11 * l.scale, "{} vs {}", n.lower.lambda, e.lower.lambda);
+        assert!((n.upper.lambda - e.upper.lambda).abs() <= 1e-11 * l.scale, "{} vs {}", n.upper.lambda, e.upper.lambda);
+        assert_eq!(n.lower.events, e.lower.events);
+        assert_eq!(n.upper.events, e.upper.events);
+    }
+}
+
+fn four_bar(ab: f64, bc: f64, cd: f64, da: f64) -> Scene {
+    // A pose need not close: lengths are stated, the drawing only gives orientations.
+    let mut b = SceneBuilder::new("four-bar");
+    b.joint("A", [0.0, 0.0]);
+    b.joint("B", [0.2 * da, 0.9 * ab.min(da)]);
+    b.joint("C", [0.8 * da, 0.5 * ab.min(da)]);
+    b.joint("D", [da, 0.0]);
+    b.bar_len("A", "B", ab).bar_len("B", "C", bc).bar_len("C", "D", cd).bar_len("D", "A", da);
+    b.base("A", "C").ground(&["D", "A"]);
+    b.build()
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 64, ..ProptestConfig::default() })]
+
+    /// Every type of a four-bar has the single interval
+    /// [max(|AB−BC|, |DA−CD|), min(AB+BC, DA+CD)] (THEORY.md §7).
+    #[test]
+    fn four_bars_match_the_closed_form(ab in 0.1f64..10.0, bc in 0.1f64..10.0, cd in 0.1f64..10.0, da in 0.1f64..10.0) {
+        let lo = (ab - bc).abs().max((da - cd).abs());
+        let hi = (ab + bc).min(da + cd);
+        prop_assume!(hi - lo > 1e-6 * hi);
+        // The drawn pose must itself be realizable for the sketch; any λ inside works.
+        let (l, s) = solve(four_bar(ab, bc, cd, da));
+        prop_assert_eq!(s.space.intervals.len(), 4);
+        for i in &s.space.intervals {
+            prop_assert!((i.lower.lambda - lo).abs() <= 1e-13 * hi, "{} vs {lo}", i.lower.lambda);
+            prop_assert!((i.upper.lambda - hi).abs() <= 1e-13 * hi, "{} vs {hi}", i.upper.lambda);
+        }
+        prop_assert_eq!(s.union.len(), 1);
+        assert_matches_reference(&l, &s);
+    }
+
+    /// Scaling a scene scales its intervals and keeps their counts.
+    #[test]
+    fn intervals_scale_with_the_scene(seed in any::<u64>(), steps in 2usize..6, factor in prop::sample::select(vec![1e-3, 1e3])) {
+        let scene = random_linkage(seed, steps, 0.4);
+        let mut scaled = scene.clone();
+        for j in &mut scaled.joints {
+            j.pos = [j.pos[0] * factor, j.pos[1] * factor];
+        }
+        let (l, s) = solve(scene);
+        let (_, t) = solve(scaled);
+        prop_assert_eq!(s.space.intervals.len(), t.space.intervals.len());
+        for (x, y) in s.space.intervals.iter().zip(&t.space.intervals) {
+            prop_assert_eq!(&x.ty, &y.ty);
+            prop_assert!((x.lower.lambda * factor - y.lower.lambda).abs() <= 1e-12 * l.scale * factor);
+            prop_assert!((x.upper.lambda * factor - y.upper.lambda).abs() <= 1e-12 * l.scale * factor);
+        }
+    }
+
+    /// At every endpoint exactly the named step is flat; all steps close just
+    /// inside the interval and the named step does not just outside.
+    #[test]
+    fn endpoints_have_exactly_the_named_step_flat(seed in any::<u64>(), steps in 1usize..7, tri in 0.0f64..0.6) {
+        let (l, s) = solve(random_linkage(seed, steps, tri));
+        let con = &s.construction;
+        let h = 1e-7 * l.scale;
+        for i in &s.space.intervals {
+            let width = i.upper.lambda - i.lower.lambda;
+            for (end, inward) in [(&i.lower, 1.0), (&i.upper, -1.0)] {
+                let [event] = end.events[..] else { panic!("generic scene, one event per end") };
+                let pos = con.realize(end.lambda, &i.ty).unwrap();
+                let st = &con.steps[event.step];
+                let d = con.base_distance(&pos, event.step);
+                let target = match event.kind { Kind::Stretched => st.r1 + st.r2, Kind::Folded => (st.r1 - st.r2).abs() };
+                prop_assert!((d - target).abs() <= 1e-9 * l.scale, "step {} not flat: {d} vs {target}", event.step);
+                // Just inside: every step closes strictly.
+                let inside = end.lambda + inward * (h.min(width / 2.0));
+                if width > 0.0 {
+                    let pos = con.realize(inside, &i.ty).unwrap();
+                    for (k, st) in con.steps.iter().enumerate() {
+                        prop_assert!(slack(st.r1, st.r2, con.base_distance(&pos, k)) > 0.0, "step {k} flat inside");
+                    }
+                }
+                // Just outside: the named step cannot close.
+                let outside = end.lambda - inward * h;
+                if let Ok(pos) = con.realize_prefix(outside, &i.ty.0, event.step) {
+                    let d = con.base_distance(&pos, event.step);
+                    prop_assert!(slack(st.r1, st.r2, d) < 0.0, "step {} still closes outside", event.step);
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn jansen_leg_has_sixteen_intervals_over_the_crank_range() {
+    let (l, s) = solve(bundled::load("jansen").unwrap());
+    assert_eq!(s.space.intervals.len(), 16);
+    let op = (38.0f64 * 38.0 + 7.8 * 7.8).sqrt();
+    assert_eq!(s.union.len(), 1);
+    assert!((s.union[0][0] - (op - 15.0)).abs() < 1e-12 * l.scale);
+    assert!((s.union[0][1] - (op + 15.0)).abs() < 1e-12 * l.scale);
+    assert!((s.union[0][0] - 23.7923).abs() < 1e-4 && (s.union[0][1] - 53.7923).abs() < 1e-4);
+    // The near-coincident endpoints of THEORY.md §6 are told apart.
+    assert!(s.space.intervals.iter().any(|i| (i.lower.lambda - 23.8238).abs() < 1e-3));
+    assert_matches_reference(&l, &s);
+    assert_methods_agree(&l, &s);
+}
+
+#[test]
+fn limacon_matches_the_published_intervals() {
+    let (l, s) = solve(bundled::load("limacon").unwrap());
+    assert_eq!(s.union.len(), 1);
+    assert!((s.union[0][0] - 70.03).abs() < 0.01 && (s.union[0][1] - 321.98).abs() < 0.01);
+    let mut spans: Vec<(f64, f64)> = s.space.intervals.iter().map(|i| (i.lower.lambda, i.upper.lambda)).collect();
+    spans.sort_by(|a, b| a.partial_cmp(b).unwrap());
+    let published = [(70.03, 261.40), (70.03, 271.84), (132.60, 247.10), (132.60, 321.98)];
+    assert_eq!(spans.len(), 16);
+    for (chunk, p) in spans.chunks(4).zip(published) {
+        for span in chunk {
+            assert!((span.0 - p.0).abs() < 0.01 && (span.1 - p.1).abs() < 0.01, "{span:?} vs {p:?}");
+        }
+    }
+    assert_matches_reference(&l, &s);
+    assert_methods_agree(&l, &s);
+}
+
+// ---- The hard-case suite -------------------------------------------------
+
+/// A four-bar A-B-C-D on base A–C, plus E ◁ (B, D): E's base distance |BD|
+/// varies along the motion, so its endpoints come from the hinge chain.
+fn four_bar_with_dyad(lengths: [f64; 4], be: f64, de: f64) -> Scene {
+    let [ab, bc, cd, da] = lengths;
+    let mut b = SceneBuilder::new("four-bar-dyad");
+    b.joint("A", [0.0, 0.0]);
+    b.joint("B", [0.3, 2.0]);
+    b.joint("C", [3.0, 0.4]);
+    b.joint("D", [1.5, -1.8]);
+    b.joint("E", [2.4, 2.6]);
+    b.bar_len("A", "B", ab).bar_len("B", "C", bc).bar_len("C", "D", cd).bar_len("D", "A", da);
+    b.bar_len("B", "E", be).bar_len("D", "E", de);
+    b.base("A", "C");
+    b.build()
+}
+
+/// |BD| at λ for the given orientations of B and D, by plain geometry.
+fn bd_distance(lengths: [f64; 4], lambda: f64, b_plus: bool, d_plus: bool) -> f64 {
+    let [ab, bc, cd, da] = lengths;
+    let apex = |r1: f64, r2: f64, plus: bool| {
+        let x = (lambda * lambda + r1 * r1 - r2 * r2) / (2.0 * lambda);
+        let y = (r1 * r1 - x * x).max(0.0).sqrt();
+        [x, if plus { y } else { -y }]
+    };
+    let (pb, pd) = (apex(ab, bc, b_plus), apex(da, cd, d_plus));
+    (pb[0] - pd[0]).hypot(pb[1] - pd[1])
+}
+
+#[test]
+fn hard_case_interval_narrower_than_1e_minus_7() {
+    // B ◁ (A, C) closes for λ ∈ [1, 7], D for λ ∈ [1.5, 5.5]. With B and D on
+    // opposite sides, |BD| falls steeply as λ → 5.5; E closes where
+    // |BD| ≤ BE + DE, set to |BD| at 5.5 − 2e-8: a sliver [5.5 − 2e-8, 5.5].
+    let lengths = [3.0, 4.0, 3.5, 2.0];
+    let t = bd_distance(lengths, 5.5 - 2e-8, true, false);
+    let (l, s) = solve(four_bar_with_dyad(lengths, t / 2.0 + 0.25, t / 2.0 - 0.25));
+    let sliver: Vec<_> =
+        s.space.intervals.iter().filter(|i| i.upper.lambda - i.lower.lambda < 1e-7 * i.upper.lambda).collect();
+    assert!(!sliver.is_empty(), "no sliver found");
+    for i in sliver {
+        assert!(i.upper.lambda > i.lower.lambda, "a sliver, not a point");
+        assert!((i.upper.lambda - 5.5).abs() < 1e-12 * l.scale);
+        assert!((i.lower.lambda - (5.5 - 2e-8)).abs() < 1e-9, "{}", i.lower.lambda);
+    }
+    assert_matches_reference(&l, &s);
+    assert_methods_agree(&l, &s);
+}
+
+#[test]
+fn hard_case_endpoints_of_different_steps_closer_than_1e_minus_6() {
+    // E's stretched limit at |BD| of 5.5 − 3e-7 with B, D on opposite sides:
+    // those types start at 5.5 − 3e-7 (step E); the types with B, D on one
+    // side (|BD| smaller) run to 5.5 (step D). Two events of different steps
+    // 3e-7 apart, in different intervals.
+    let lengths = [3.0, 4.0, 3.5, 2.0];
+    let t = bd_distance(lengths, 5.5 - 3e-7, true, false);
+    let (l, s) = solve(four_bar_with_dyad(lengths, t / 2.0 + 0.25, t / 2.0 - 0.25));
+    let ends: Vec<(f64, usize)> =
+        s.space.intervals.iter().flat_map(|i| [&i.lower, &i.upper]).map(|e| (e.lambda, e.events[0].step)).collect();
+    let close =
+        ends.iter().any(|&(x, kx)| ends.iter().any(|&(y, ky)| kx != ky && x != y && (x - y).abs() < 1e-6 * l.scale));
+    assert!(close, "no pair of near-coincident endpoints from different steps: {ends:?}");
+    assert_matches_reference(&l, &s);
+    assert_methods_agree(&l, &s);
+}
+
+#[test]
+fn hard_case_isolated_point_from_a_tangency() {
+    // v1 ◁ (a, b) with |a v1| = |b v1| = 5; triangles a-v1-p and b-v1-q hinge
+    // at v1 with |v1 p| = 3, |v1 q| = 4, so |pq| ≤ 7 with equality when p, v1,
+    // q line up. v2 ◁ (p, q) with |p v2| = 10, |q v2| = 3 needs |pq| ≥ 7: only
+    // that one λ. With the angles of the triangles at v1 of 30° (p from a) and
+    // 60° (q from b), the hinge angle a-v1-b is then 180° − 30° − 60°, λ = 10 sin 45°.
+    let (alpha, beta) = (30f64.to_radians(), 60f64.to_radians());
+    let ap = (25.0f64 + 9.0 - 30.0 * alpha.cos()).sqrt();
+    let bq = (25.0f64 + 16.0 - 40.0 * beta.cos()).sqrt();
+    let expected = 10.0 * ((std::f64::consts::PI - alpha - beta) / 2.0).sin();
+    // A pose near the tangency, with p and q on the sides that make it reachable.
+    let theta = 150f64.to_radians();
+    let lam = 10.0 * (theta / 2.0).sin();
+    let v1 = [lam / 2.0, 5.0 * (theta / 2.0).cos()];
+    let dir = |from: [f64; 2], to: [f64; 2]| (to[1] - from[1]).atan2(to[0] - from[0]);
+    let at = |angle: f64, r: f64| [v1[0] + r * angle.cos(), v1[1] + r * angle.sin()];
+    let p = at(dir(v1, [0.0, 0.0]) - alpha, 3.0);
+    let q = at(dir(v1, [lam, 0.0]) + beta, 4.0);
+    let mut b = SceneBuilder::new("tangency");
+    b.joint("a", [0.0, 0.0]);
+    b.joint("b", [lam, 0.0]);
+    b.joint("v1", v1);
+    b.joint("p", p);
+    b.joint("q", q);
+    b.joint("v2", [(p[0] + q[0]) / 2.0 + 0.5, (p[1] + q[1]) / 2.0 + 2.0]);
+    b.bar_len("a", "v1", 5.0).bar_len("b", "v1", 5.0).bar_len("v1", "p", 3.0).bar_len("a", "p", ap);
+    b.bar_len("v1", "q", 4.0).bar_len("b", "q", bq).bar_len("p", "v2", 10.0).bar_len("q", "v2", 3.0);
+    b.base("a", "b");
+    let (l, s) = solve(b.build());
+    assert!(!s.space.intervals.is_empty(), "the isolated point must be kept");
+    for i in &s.space.intervals {
+        assert_eq!(i.lower.lambda, i.upper.lambda, "an isolated point has zero width");
+        assert!((i.lower.lambda - expected).abs() < 1e-12 * l.scale, "{} vs {expected}", i.lower.lambda);
+        assert_eq!(i.lower.events[0].kind, Kind::Folded);
+    }
+    assert!(s.space.notes.iter().any(|n| matches!(n, Note::Tangency { inside: false, .. })));
+    assert_matches_reference(&l, &s);
+}
+
+#[test]
+fn hard_case_bars_from_1e_minus_3_to_1e3() {
+    // A Grashof four-bar with a 1e-3 crank and 1e3 coupler, plus a dyad whose
+    // reach (0.55 + 0.4505) cuts the motion where |BD| ∈ [0.999, 1.001] passes 1.0005.
+    let lengths = [1e-3, 1e3, 999.9995, 1.0];
+    let (l, s) = solve(four_bar_with_dyad(lengths, 0.55, 0.4505));
+    assert!(s.space.intervals.iter().flat_map(|i| [&i.lower, &i.upper]).any(|e| e.events[0].step == 2));
+    let (lo, hi) = (999.999, 1000.001);
+    assert!(!s.space.intervals.is_empty());
+    for i in &s.space.intervals {
+        assert!(i.lower.lambda >= lo - 1e-12 * l.scale && i.upper.lambda <= hi + 1e-12 * l.scale);
+    }
+    assert!((s.union[0][0] - lo).abs() < 1e-12 * l.scale && (s.union[0][1] - hi).abs() < 1e-12 * l.scale);
+    assert_matches_reference(&l, &s);
+}
+
+#[test]
+fn hard_case_near_parallelogram() {
+    // Opposite bars equal but for 1e-6 relative: AB = 2, CD = 2(1 + 1e-6), BC = DA = 3.
+    let (ab, bc, cd, da) = (2.0, 3.0, 2.0 * (1.0 + 1e-6), 3.0);
+    let (l, s) = solve(four_bar(ab, bc, cd, da));
+    let lo = (ab - bc).abs().max((da - cd).abs());
+    let hi = (ab + bc).min(da + cd);
+    assert_eq!(s.space.intervals.len(), 4);
+    for i in &s.space.intervals {
+        assert!((i.lower.lambda - lo).abs() <= 1e-13 * hi && (i.upper.lambda - hi).abs() <= 1e-13 * hi);
+    }
+    assert_matches_reference(&l, &s);
+}
+
+#[test]
+fn hard_case_non_lcc_scenes_use_the_numeric_search_and_match_the_reference() {
+    for name in ["stephenson", "fig1b"] {
+        let (l, s) = solve(bundled::load(name).unwrap());
+        assert!(!s.complexity.low);
+        assert!(!s.space.numeric_steps.is_empty());
+        assert!(!s.space.intervals.is_empty());
+        assert!(!s.space.notes.iter().any(|n| matches!(n, Note::Unresolved { .. })), "{name}: {:?}", s.space.notes);
+        assert_matches_reference(&l, &s);
+    }
+}
+
+#[test]
+fn hard_case_peaucellier_is_non_generic_and_reported() {
+    let (l, s) = solve(bundled::load("peaucellier").unwrap());
+    // λ = |OC| ∈ [2, 4]: B, D need |OC| ≥ 5 − 3, A needs |OC| ≤ 2 + 2.
+    assert_eq!(s.union, vec![[2.0, 4.0]]);
+    let coincident = |x: f64| {
+        s.space.notes.iter().any(
+            |n| matches!(n, Note::Coincident { lambda, events } if (lambda - x).abs() < 1e-12 && events.len() >= 2),
+        )
+    };
+    assert!(coincident(2.0) && coincident(4.0), "{:?}", s.space.notes);
+    // Types with B and D on one side fold the rhombus flat: P turns freely.
+    assert!(s.space.notes.iter().any(|n| matches!(n, Note::Degenerate { step: 3, .. })));
+    assert_eq!(s.space.intervals.len(), 8);
+    assert_matches_reference(&l, &s);
+}
+
+#[test]
+fn every_bundled_scene_meets_the_accuracy_target() {
+    for b in bundled::BUNDLED {
+        let a = analyse(bundled::load(b.name).unwrap(), None).unwrap();
+        if let Ok(s) = &a.outcome {
+            let acc = s.accuracy.as_ref().expect("reference computed for small scenes");
+            assert!(acc.same_structure && acc.max_relative_error <= 1e-12, "{}: {acc:?}", b.name);
+            assert!(!s.space.intervals.is_empty(), "{}", b.name);
+        }
+    }
+}
+
+#[test]
+fn a_construction_converts_between_scalar_types_exactly() {
+    let (_, s) = solve(bundled::load("limacon").unwrap());
+    let jet: Construction<Jet<f64>> = s.construction.convert();
+    assert_eq!(jet.steps.len(), s.construction.steps.len());
+    assert_eq!(jet.steps[2].r1.v, s.construction.steps[2].r1);
+}

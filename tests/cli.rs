@@ -1,0 +1,104 @@
+//! The real binary: exit codes, JSON shape, one-line errors naming file and line.
+
+use std::process::{Command, Output};
+
+fn caymos(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_caymos")).args(args).env("NO_COLOR", "1").output().expect("binary runs")
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).to_string()
+}
+
+#[test]
+fn report_runs_on_every_bundled_scene_with_the_right_exit_code() {
+    for b in caymos::bundled::BUNDLED {
+        let out = caymos(&["report", b.name, "--format", "json"]);
+        let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap_or_else(|e| panic!("{}: {e}", b.name));
+        let in_class = json["one_dof_tree_decomposable"].as_bool().unwrap();
+        assert_eq!(out.status.code(), Some(if in_class { 0 } else { 2 }), "{}", b.name);
+        if in_class {
+            assert!(json["reason"].is_null());
+            assert!(!json["cayley_space"].as_array().unwrap().is_empty(), "{}", b.name);
+            let first = &json["oriented_intervals"][0];
+            for key in ["type", "lower", "upper", "lower_event", "upper_event"] {
+                assert!(!first[key].is_null(), "{}: {key}", b.name);
+            }
+            assert!(json["accuracy"]["max_endpoint_error_estimate"].as_f64().unwrap() < 1e-9);
+        } else {
+            assert!(json["reason"].as_str().unwrap().contains("rigid"), "{}", b.name);
+        }
+        let text = caymos(&["report", b.name]);
+        assert_eq!(text.status.code(), out.status.code());
+        assert!(String::from_utf8_lossy(&text.stdout).contains("Class"));
+    }
+}
+
+#[test]
+fn default_scene_is_the_jansen_leg() {
+    let out = caymos(&["report", "--format", "json"]);
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(json["scene"], "Jansen leg");
+    assert_eq!(json["steps"].as_array().unwrap().len(), 4);
+    assert_eq!(json["oriented_intervals"].as_array().unwrap().len(), 16);
+}
+
+#[test]
+fn list_names_every_bundled_scene() {
+    let out = caymos(&["list"]);
+    assert!(out.status.success());
+    let text = String::from_utf8_lossy(&out.stdout);
+    for b in caymos::bundled::BUNDLED {
+        assert!(text.contains(b.name));
+    }
+}
+
+#[test]
+fn bad_input_is_one_line_naming_file_and_line_with_exit_code_1() {
+    let dir = std::env::temp_dir().join(format!("caymos-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let cases = [
+        (
+            "unknown-joint.toml",
+            "bars = [[\"A\", \"B\"], [\"B\", \"Q\"]]\n[joints]\nA = [0, 0]\nB = [1, 0]\n",
+            ":1:",
+            "\"Q\"",
+        ),
+        ("syntax.toml", "bars = [[\"A\", \"B\"]\n[joints]\n", "syntax.toml:", ""),
+        ("typo.toml", "bar = []\n[joints]\nA = [0, 0]\n", ":1:", "bar"),
+        ("empty.toml", "", "empty.toml", "empty"),
+    ];
+    for (name, text, location, item) in cases {
+        let path = dir.join(name);
+        std::fs::write(&path, text).unwrap();
+        let out = caymos(&["report", path.to_str().unwrap()]);
+        assert_eq!(out.status.code(), Some(1), "{name}");
+        let err = stderr(&out);
+        assert_eq!(err.trim().lines().count(), 1, "{name}: {err}");
+        assert!(err.contains(name) && err.contains(location) && err.contains(item), "{name}: {err}");
+    }
+    std::fs::write(dir.join("binary.toml"), [0xff, 0xfe, 0x00, 0x41]).unwrap();
+    let out = caymos(&["report", dir.join("binary.toml").to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(stderr(&out).contains("UTF-8"), "{}", stderr(&out));
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn bad_arguments_exit_with_1() {
+    for args in [
+        vec!["report", "no-such-scene"],
+        vec!["report", "jansen", "--base", "P"],
+        vec!["report", "jansen", "--base", "P,Nope"],
+        vec!["report", "jansen", "--base", "O,K"],
+        vec!["report", "jansen", "--base", "O,X"],
+        vec!["report", "--format", "yaml"],
+        vec!["frobnicate"],
+    ] {
+        let out = caymos(&args);
+        assert_eq!(out.status.code(), Some(1), "{args:?}: {}", stderr(&out));
+        assert!(!stderr(&out).is_empty());
+    }
+    let ok = caymos(&["report", "jansen", "--base", "O,Y", "--format", "json"]);
+    assert_eq!(ok.status.code(), Some(0), "{}", stderr(&ok));
+}
