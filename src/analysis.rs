@@ -7,6 +7,7 @@ use crate::cayley_space::{CayleySpace, Method, Note, cayley_space, union};
 use crate::complexity::{Complexity, four_cycle_test};
 use crate::decompose::{Decomposition, Outside, decompose};
 use crate::linkage::Linkage;
+use crate::motion::{Components, Realization, components, locate};
 use crate::real::{Dd, Jet, Real};
 use crate::realize::{Construction, Drawn, P2, Unrealizable, bar_residual, drawn_realization, to_display};
 use crate::scene::{Scene, SceneError};
@@ -62,6 +63,10 @@ pub struct Solved {
     pub union: Vec<[f64; 2]>,
     /// Against the double-double reference (`None` when skipped for size).
     pub accuracy: Option<Accuracy>,
+    pub components: Components,
+    /// The oriented interval and component holding the drawn realization.
+    pub drawn_interval: Option<usize>,
+    pub drawn_component: Option<usize>,
 }
 
 /// Compute the Cayley space in double-double and compare it with `space`.
@@ -206,7 +211,38 @@ pub fn analyse(scene: Scene, base_override: Option<[usize; 2]>) -> Result<Analys
         None
     };
     warnings.extend(describe_notes(&linkage, &dec, &space.notes));
-    let solved = Solved { dec, complexity, construction, drawn, drawn_positions, sketch, space, union, accuracy };
+    let components = timings.time("components", || components(&space));
+    for b in &components.branch_points {
+        let what = if b.options.is_empty() { "a dead end" } else { "a branch point" };
+        let events: Vec<String> = b.events.iter().map(|e| format!("step {} {}", e.step + 1, e.kind.name())).collect();
+        let text = format!(
+            "{what} at λ = {} ({}): {} ways on; each listed component follows the lowest flat step's flip there",
+            b.lambda,
+            events.join(", "),
+            b.options.len()
+        );
+        if !warnings.contains(&text) {
+            warnings.push(text);
+        }
+    }
+    let drawn_interval = drawn_positions
+        .as_ref()
+        .and_then(|_| locate(&space, &Realization { ty: drawn.ty.clone(), lambda: drawn.lambda }, linkage.scale));
+    let drawn_component = drawn_interval.map(|i| components.of_interval[i]);
+    let solved = Solved {
+        dec,
+        complexity,
+        construction,
+        drawn,
+        drawn_positions,
+        sketch,
+        space,
+        union,
+        accuracy,
+        components,
+        drawn_interval,
+        drawn_component,
+    };
     Ok(Analysis { scene, linkage, outcome: Ok(solved), warnings, timings })
 }
 

@@ -5,8 +5,9 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand, ValueEnum};
 
-use caymos::analysis::analyse;
+use caymos::analysis::{Analysis, Solved, analyse};
 use caymos::bundled;
+use caymos::commands;
 use caymos::report::Report;
 use caymos::scene::Scene;
 
@@ -40,6 +41,61 @@ enum Command {
     },
     /// List the bundled scenes.
     List,
+    /// Both motion paths between two realizations (`drawn` or TYPE@LAMBDA), or the closest pair.
+    Path {
+        scene: Option<String>,
+        #[arg(long)]
+        from: String,
+        #[arg(long)]
+        to: String,
+        #[arg(long, value_enum, default_value = "text")]
+        format: Format,
+        /// Largest joint move between samples when measuring (default: 1% of the scene scale).
+        #[arg(long)]
+        step: Option<f64>,
+    },
+    /// CSV of joint positions along a component or a path.
+    Trace {
+        scene: Option<String>,
+        /// Component index as in the report (default: the drawn realization's).
+        #[arg(long, conflicts_with_all = ["from", "to"])]
+        component: Option<usize>,
+        #[arg(long, requires = "to")]
+        from: Option<String>,
+        #[arg(long, requires = "from")]
+        to: Option<String>,
+        /// Which arc between --from and --to: 1 (along the component) or 2 (against); default the shorter.
+        #[arg(long)]
+        arc: Option<usize>,
+        /// Joints to trace, e.g. `F,K` (default: all).
+        #[arg(long)]
+        joints: Option<String>,
+        #[arg(long)]
+        step: Option<f64>,
+        #[arg(long)]
+        output: Option<std::path::PathBuf>,
+    },
+    /// Closest pair of realizations between two components, by Cayley distance.
+    Closest {
+        scene: Option<String>,
+        /// Two component indices as in the report, e.g. `0,3`.
+        #[arg(long)]
+        components: String,
+        #[arg(long, value_enum, default_value = "text")]
+        format: Format,
+    },
+    /// SVG of the drawn linkage with the traces of its joints over a component.
+    Svg {
+        scene: Option<String>,
+        #[arg(long)]
+        component: Option<usize>,
+        #[arg(long)]
+        joints: Option<String>,
+        #[arg(long)]
+        step: Option<f64>,
+        #[arg(long)]
+        output: Option<std::path::PathBuf>,
+    },
 }
 
 /// An error to print (one line) with its exit code.
@@ -93,6 +149,86 @@ fn run(command: Command) -> Result<u8, Failure> {
             }
             Ok(if report.one_dof_tree_decomposable { 0 } else { 2 })
         }
+        Command::Path { scene, from, to, format, step } => {
+            let (a, s) = solved(scene.as_deref())?;
+            let step = positive_step(step, &a)?;
+            let report = commands::path(&a, &s, &from, &to, step).map_err(arg_error)?;
+            match format {
+                Format::Json => println!("{}", serde_json::to_string_pretty(&report).expect("serializes")),
+                Format::Text => print!("{}", report.to_text()),
+            }
+            Ok(0)
+        }
+        Command::Trace { scene, component, from, to, arc, joints, step, output } => {
+            let (a, s) = solved(scene.as_deref())?;
+            let step = positive_step(step, &a)?;
+            let joints = commands::parse_joints(&a, joints.as_deref()).map_err(arg_error)?;
+            let between = from.as_deref().zip(to.as_deref()).map(|(f, t)| (f, t, arc));
+            let segments = commands::trace_segments(&a, &s, component, between).map_err(arg_error)?;
+            write_out(output, &commands::trace_csv(&a, &s, segments, &joints, step))?;
+            Ok(0)
+        }
+        Command::Closest { scene, components, format } => {
+            let (a, s) = solved(scene.as_deref())?;
+            let pair: Vec<Option<usize>> = components.split(',').map(|x| x.trim().parse().ok()).collect();
+            let [Some(i), Some(j)] = pair[..] else {
+                return Err(arg_error(format!("--components {components}: give two component indices, e.g. 0,3")));
+            };
+            let c = commands::closest(&a, &s, i, j).map_err(arg_error)?;
+            match format {
+                Format::Json => println!("{}", serde_json::to_string_pretty(&c).expect("serializes")),
+                Format::Text => {
+                    println!("Closest pair between components {i} and {j}: Cayley distance {}", c.distance);
+                    println!("  {}@{}  and  {}@{}", c.a.ty, c.a.lambda, c.b.ty, c.b.lambda);
+                    println!("  {}", c.certificate);
+                }
+            }
+            Ok(0)
+        }
+        Command::Svg { scene, component, joints, step, output } => {
+            let (a, s) = solved(scene.as_deref())?;
+            let step = positive_step(step, &a)?;
+            let joints = commands::parse_joints(&a, joints.as_deref()).map_err(arg_error)?;
+            let segments = commands::trace_segments(&a, &s, component, None).map_err(arg_error)?;
+            write_out(output, &commands::svg(&a, &s, segments, &joints, step))?;
+            Ok(0)
+        }
+    }
+}
+
+/// Load and analyse a scene that must be in the handled class.
+fn solved(scene: Option<&str>) -> Result<(Analysis, Solved), Failure> {
+    let scene = bundled::resolve(scene)?;
+    let analysis = analyse(scene, None)?;
+    match analysis.outcome.clone() {
+        Ok(s) => Ok((analysis, s)),
+        Err(o) => Err(Failure {
+            message: format!("{}: outside the handled class: {}", analysis.scene.source, o.describe(&analysis.linkage)),
+            code: 2,
+        }),
+    }
+}
+
+fn arg_error(message: String) -> Failure {
+    Failure { message, code: 1 }
+}
+
+fn write_out(output: Option<std::path::PathBuf>, text: &str) -> Result<(), Failure> {
+    match output {
+        Some(path) => std::fs::write(&path, text)
+            .map_err(|e| Failure { message: format!("{}: cannot write: {e}", path.display()), code: 1 }),
+        None => {
+            print!("{text}");
+            Ok(())
+        }
+    }
+}
+
+fn positive_step(step: Option<f64>, a: &Analysis) -> Result<f64, Failure> {
+    match step {
+        None => Ok(commands::default_step(a)),
+        Some(s) if s.is_finite() && s > 0.0 => Ok(s),
+        Some(s) => Err(arg_error(format!("--step {s}: give a positive length in scene units"))),
     }
 }
 

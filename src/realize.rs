@@ -119,6 +119,19 @@ pub fn slack<T: Real>(r1: T, r2: T, d: T) -> T {
 /// cancellation-free product h² = (r1+r2+d)(r1+r2−d)(d−|r1−r2|)(d+|r1−r2|)/(4d²).
 /// A slack down to `-tol` is clamped to a flat triangle; below, `Err(slack)`.
 pub fn apex<T: Real>(pu: P2<T>, pw: P2<T>, r1: T, r2: T, plus: bool, tol: f64) -> Result<P2<T>, Option<f64>> {
+    apex_flat(pu, pw, r1, r2, plus, tol, false)
+}
+
+/// [`apex`], optionally forcing the triangle flat (height zero).
+fn apex_flat<T: Real>(
+    pu: P2<T>,
+    pw: P2<T>,
+    r1: T,
+    r2: T,
+    plus: bool,
+    tol: f64,
+    flat: bool,
+) -> Result<P2<T>, Option<f64>> {
     let e = sub(pw, pu);
     let d = norm(e);
     if d.partial_cmp(&T::zero()) != Some(std::cmp::Ordering::Greater) {
@@ -133,7 +146,7 @@ pub fn apex<T: Real>(pu: P2<T>, pw: P2<T>, r1: T, r2: T, plus: bool, tol: f64) -
     let zero = T::zero();
     let clamp = |x: T| if x < zero { zero } else { x };
     let h2 = (r1 + r2 + d) * clamp(stretch) * clamp(fold) * (d + (r1 - r2).abs()) / (T::from_f64(4.0) * d * d);
-    let h = h2.sqrt();
+    let h = if flat { zero } else { h2.sqrt() };
     let along = (d + (r1 - r2) * (r1 + r2) / d) / T::from_f64(2.0);
     let (ex, ey) = (e[0] / d, e[1] / d);
     let h = if plus { h } else { -h };
@@ -310,15 +323,29 @@ impl<T: Real> Construction<T> {
     /// Like [`Self::realize`] but only the first `upto` steps (`bits` needs at
     /// least that many); joints of later steps are left at the origin.
     pub fn realize_prefix(&self, lambda: T, bits: &[bool], upto: usize) -> Result<Vec<P2<T>>, Unrealizable> {
+        self.realize_flat(lambda, bits, upto, &[])
+    }
+
+    /// Realize with the steps in `flat` placed exactly flat (height zero):
+    /// at an interval endpoint the flat step's height is otherwise √(rounding),
+    /// and the two types meeting there would differ by that much.
+    pub fn realize_flat(
+        &self,
+        lambda: T,
+        bits: &[bool],
+        upto: usize,
+        flat: &[usize],
+    ) -> Result<Vec<P2<T>>, Unrealizable> {
         let zero = T::zero();
         let mut pos = vec![[zero, zero]; self.n_joints];
         pos[self.base[1]] = [lambda, zero];
         let tol = tolerance::FEASIBLE * self.scale;
         for (k, s) in self.steps.iter().enumerate().take(upto) {
-            let v = apex(pos[s.u], pos[s.w], s.r1, s.r2, bits[k], tol).map_err(|e| match e {
-                Some(slack) => Unrealizable::Infeasible { step: k, slack },
-                None => Unrealizable::Degenerate { step: k },
-            })?;
+            let v =
+                apex_flat(pos[s.u], pos[s.w], s.r1, s.r2, bits[k], tol, flat.contains(&k)).map_err(|e| match e {
+                    Some(slack) => Unrealizable::Infeasible { step: k, slack },
+                    None => Unrealizable::Degenerate { step: k },
+                })?;
             pos[s.vertex] = v;
             for (pivot, list) in [(s.u, &s.members_u), (s.w, &s.members_w)] {
                 let p = pos[pivot];

@@ -48,6 +48,16 @@ pub struct IntervalReport {
 }
 
 #[derive(Debug, Clone, Serialize)]
+pub struct ComponentReport {
+    /// Indices into `oriented_intervals`, in traversal order.
+    pub intervals: Vec<usize>,
+    pub lambda_range: [f64; 2],
+    pub contains_drawn: bool,
+    /// False only at a non-generic branch point or dead end.
+    pub closed: bool,
+}
+
+#[derive(Debug, Clone, Serialize)]
 pub struct AccuracyReport {
     pub reference: &'static str,
     /// Largest |λ − λ_reference| over all endpoints, in scene units.
@@ -92,6 +102,9 @@ pub struct Report {
     pub endpoint_method: Option<&'static str>,
     pub numeric_steps: Vec<usize>,
     pub accuracy: Option<AccuracyReport>,
+    pub components: Vec<ComponentReport>,
+    /// The complete Cayley vector cannot tell mirror images apart (all clusters achiral).
+    pub mirror_pairs: bool,
     pub warnings: Vec<String>,
     pub timings_us: BTreeMap<String, f64>,
 }
@@ -126,6 +139,8 @@ impl Report {
             endpoint_method: None,
             numeric_steps: Vec::new(),
             accuracy: None,
+            components: Vec::new(),
+            mirror_pairs: false,
             warnings: a.warnings.clone(),
             timings_us: a.timings.0.iter().map(|(k, v)| (k.to_string(), *v)).collect(),
         };
@@ -181,6 +196,19 @@ impl Report {
                     .collect();
                 r.endpoint_method = Some(if s.space.numeric_steps.is_empty() { "exact" } else { "exact+numeric" });
                 r.numeric_steps = s.space.numeric_steps.clone();
+                r.components = s
+                    .components
+                    .list
+                    .iter()
+                    .enumerate()
+                    .map(|(k, c)| ComponentReport {
+                        intervals: c.intervals.clone(),
+                        lambda_range: c.lambda_range,
+                        contains_drawn: s.drawn_component == Some(k),
+                        closed: c.closed,
+                    })
+                    .collect();
+                r.mirror_pairs = crate::distance::mirror_images_exist(&s.construction, &s.dec);
                 r.accuracy = s.accuracy.as_ref().map(|acc| AccuracyReport {
                     reference: "double-double (106-bit)",
                     max_endpoint_error_estimate: acc.max_endpoint_error,
@@ -320,6 +348,7 @@ impl Report {
                 if a.same_structure { "" } else { "; STRUCTURE DIFFERS" }
             );
         }
+        self.write_components(o);
         let drawn_ty = self.drawn.as_ref().map(|d| d.ty.clone()).unwrap_or_default();
         let many = self.oriented_intervals.len() > 32 && !all;
         let shown: Vec<&IntervalReport> =
@@ -358,6 +387,44 @@ impl Report {
         let _ = writeln!(o);
         self.write_chart(o, &shown);
         let _ = writeln!(o);
+    }
+
+    fn write_components(&self, o: &mut String) {
+        let _ = writeln!(
+            o,
+            "{:<24}{}{}",
+            "Components",
+            self.components.len(),
+            if self.mirror_pairs { " (all clusters achiral: mirror images share Cayley vectors)" } else { "" }
+        );
+        let rows: Vec<[String; 4]> = self
+            .components
+            .iter()
+            .enumerate()
+            .map(|(k, c)| {
+                let types: Vec<&str> = c.intervals.iter().map(|&i| self.oriented_intervals[i].ty.as_str()).collect();
+                let shown = if types.len() > 6 {
+                    format!("{} … ({} more)", types[..6].join(" "), types.len() - 6)
+                } else {
+                    types.join(" ")
+                };
+                [
+                    format!("{k}{}", if c.contains_drawn { " *" } else { "" }),
+                    c.intervals.len().to_string(),
+                    format!(
+                        "[{}, {}]{}",
+                        fmt_num(c.lambda_range[0]),
+                        fmt_num(c.lambda_range[1]),
+                        if c.closed { "" } else { " open" }
+                    ),
+                    shown,
+                ]
+            })
+            .collect();
+        if rows.len() <= 40 {
+            write_table(o, &["#", "intervals", "λ range", "types in order"], &rows);
+            let _ = writeln!(o, "  (* holds the drawn realization)");
+        }
     }
 
     /// Bars over the λ axis: the union on top, then one row per type.

@@ -1,0 +1,366 @@
+//! What the motion commands compute, as plain data (JSON-ready) and text:
+//! `path`, `trace`, `closest`, `svg`. The CLI only parses arguments and
+//! prints; the terminal UI calls the same functions.
+
+use std::fmt::Write as _;
+
+use serde::Serialize;
+
+use crate::analysis::{Analysis, Solved};
+use crate::distance::{ClosestPair, closest_pair};
+use crate::motion::{Realization, Segment, Stepper, arcs, component_segments, explain_missing, locate, measure};
+
+/// The default geometric step: 1% of the scene scale.
+pub fn default_step(a: &Analysis) -> f64 {
+    a.linkage.scale / 100.0
+}
+
+/// `drawn` or `TYPE@LAMBDA` → a located realization (interval index).
+pub fn resolve_realization(a: &Analysis, s: &Solved, spec: &str) -> Result<(Realization, usize), String> {
+    let r = if spec.trim() == "drawn" {
+        Realization { ty: s.drawn.ty.clone(), lambda: s.drawn.lambda }
+    } else {
+        Realization::parse(spec)?
+    };
+    match locate(&s.space, &r, a.linkage.scale) {
+        Some(i) => Ok((r, i)),
+        None => Err(format!("{spec}: {}", explain_missing(&s.space, &r, s.dec.steps.len()))),
+    }
+}
+
+#[derive(Debug, Clone, Serialize)]
+pub struct SegmentOut {
+    #[serde(rename = "type")]
+    pub ty: String,
+    pub from: f64,
+    pub to: f64,
+}
+
+#[derive(Debug, Clone, Serialize)]
+pub struct PathOut {
+    /// `along` the component's listed order, or `against` it.
+    pub direction: &'static str,
+    pub intervals: Vec<SegmentOut>,
+    pub n_intervals: usize,
+    pub lambda_range: [f64; 2],
+    pub cayley_length: f64,
+    pub max_joint_travel: f64,
+    pub shorter: bool,
+}
+
+#[derive(Debug, Clone, Serialize)]
+pub struct RealizationOut {
+    #[serde(rename = "type")]
+    pub ty: String,
+    pub lambda: f64,
+    pub component: usize,
+}
+
+#[derive(Debug, Clone, Serialize)]
+pub struct ClosestOut {
+    pub distance: f64,
+    pub a: RealizationOut,
+    pub b: RealizationOut,
+    pub best_sampled: f64,
+    pub samples_per_component: usize,
+    pub mirror_images: bool,
+    /// Zero distance between different realizations: the Cayley curves cross.
+    pub curves_cross: bool,
+    pub certificate: String,
+}
+
+#[derive(Debug, Clone, Serialize)]
+pub struct PathReport {
+    pub from: RealizationOut,
+    pub to: RealizationOut,
+    pub same_component: bool,
+    pub same_type_path: bool,
+    pub paths: Vec<PathOut>,
+    pub closest_pair: Option<ClosestOut>,
+}
+
+fn realization_out(s: &Solved, r: &Realization, interval: usize) -> RealizationOut {
+    RealizationOut { ty: r.ty.to_string(), lambda: r.lambda, component: s.components.of_interval[interval] }
+}
+
+fn closest_out(s: &Solved, c: &ClosestPair, (ca, cb): (usize, usize)) -> ClosestOut {
+    let comp = |r: &Realization, fallback: usize| {
+        locate(&s.space, r, s.construction.scale).map_or(fallback, |i| s.components.of_interval[i])
+    };
+    ClosestOut {
+        distance: c.distance,
+        a: RealizationOut { ty: c.a.ty.to_string(), lambda: c.a.lambda, component: comp(&c.a, ca) },
+        b: RealizationOut { ty: c.b.ty.to_string(), lambda: c.b.lambda, component: comp(&c.b, cb) },
+        best_sampled: c.best_sampled,
+        samples_per_component: c.samples,
+        mirror_images: c.mirror,
+        curves_cross: c.crossing,
+        certificate: c.certificate.clone(),
+    }
+}
+
+/// Closest pair between components `i` and `j` (indices into the component list).
+pub fn closest(a: &Analysis, s: &Solved, i: usize, j: usize) -> Result<ClosestOut, String> {
+    let n = s.components.list.len();
+    if i >= n || j >= n {
+        return Err(format!(
+            "component index out of range: this scene has {n} components (0..{})",
+            n.saturating_sub(1)
+        ));
+    }
+    if i == j {
+        return Err("the two components must differ (distance within one component is 0)".into());
+    }
+    let (ci, cj) = (&s.components.list[i], &s.components.list[j]);
+    let c = closest_pair(&s.construction, &s.dec, &s.space, &s.complexity.ccv, (ci, cj), 256)
+        .ok_or_else(|| "no realizations to compare".to_string())?;
+    let _ = a;
+    Ok(closest_out(s, &c, (i, j)))
+}
+
+/// Both paths between two realizations, or the closest pair when none exists.
+pub fn path(a: &Analysis, s: &Solved, from: &str, to: &str, step: f64) -> Result<PathReport, String> {
+    let (ra, ia) = resolve_realization(a, s, from)?;
+    let (rb, ib) = resolve_realization(a, s, to)?;
+    let (ca, cb) = (s.components.of_interval[ia], s.components.of_interval[ib]);
+    let from_out = realization_out(s, &ra, ia);
+    let to_out = realization_out(s, &rb, ib);
+    if ca != cb {
+        let closest = closest(a, s, ca, cb)?;
+        return Ok(PathReport {
+            from: from_out,
+            to: to_out,
+            same_component: false,
+            same_type_path: false,
+            paths: Vec::new(),
+            closest_pair: Some(closest),
+        });
+    }
+    let comp = &s.components.list[ca];
+    if !comp.closed {
+        return Err(
+            "the component is not a closed cycle here (a non-generic branch point); paths are not defined".into()
+        );
+    }
+    let both = arcs(&s.space, comp, (ia, ra.lambda), (ib, rb.lambda));
+    let mut paths: Vec<PathOut> = both
+        .into_iter()
+        .zip(["along", "against"])
+        .map(|(segs, direction)| {
+            let m = measure(&s.construction, &a.linkage, segs.clone(), step, &s.complexity.ccv);
+            let lo = segs.iter().map(|x| x.from.min(x.to)).fold(f64::INFINITY, f64::min);
+            let hi = segs.iter().map(|x| x.from.max(x.to)).fold(f64::NEG_INFINITY, f64::max);
+            PathOut {
+                direction,
+                n_intervals: segs.len(),
+                intervals: segs.iter().map(|x| SegmentOut { ty: x.ty.to_string(), from: x.from, to: x.to }).collect(),
+                lambda_range: [lo, hi],
+                cayley_length: m.cayley_length,
+                max_joint_travel: m.max_joint_travel,
+                shorter: false,
+            }
+        })
+        .collect();
+    let shorter = if paths[0].cayley_length <= paths[1].cayley_length { 0 } else { 1 };
+    paths[shorter].shorter = true;
+    Ok(PathReport {
+        from: from_out,
+        to: to_out,
+        same_component: true,
+        same_type_path: ia == ib,
+        paths,
+        closest_pair: None,
+    })
+}
+
+impl PathReport {
+    pub fn to_text(&self) -> String {
+        let mut o = String::new();
+        let r =
+            |x: &RealizationOut| format!("{}@{} (component {})", x.ty, crate::report::fmt_num(x.lambda), x.component);
+        let _ = writeln!(o, "From {}  to {}", r(&self.from), r(&self.to));
+        if let Some(c) = &self.closest_pair {
+            let _ = writeln!(o, "No path: the realizations lie in different components.");
+            let _ = writeln!(o, "Closest pair by Cayley distance: {}", crate::report::fmt_sci(c.distance));
+            let _ = writeln!(o, "  {}  and  {}", r(&c.a), r(&c.b));
+            let _ = writeln!(o, "  {}", c.certificate);
+            return o;
+        }
+        let _ = writeln!(
+            o,
+            "Same component; a path keeping the type {}",
+            if self.same_type_path { "exists" } else { "does not exist" }
+        );
+        for p in &self.paths {
+            let _ = writeln!(
+                o,
+                "\nPath {} the component{}: {} intervals, Cayley length {}, largest joint travel {}",
+                p.direction,
+                if p.shorter { " (shorter)" } else { "" },
+                p.n_intervals,
+                crate::report::fmt_num(p.cayley_length),
+                crate::report::fmt_num(p.max_joint_travel)
+            );
+            let rows: Vec<[String; 3]> = p
+                .intervals
+                .iter()
+                .map(|x| [x.ty.clone(), crate::report::fmt_num(x.from), crate::report::fmt_num(x.to)])
+                .collect();
+            crate::report::write_table(&mut o, &["type", "from λ", "to λ"], &rows);
+        }
+        o
+    }
+}
+
+/// Segments for `trace`: a whole component, or the shorter (or chosen) arc between two realizations.
+pub fn trace_segments(
+    a: &Analysis,
+    s: &Solved,
+    component: Option<usize>,
+    between: Option<(&str, &str, Option<usize>)>,
+) -> Result<Vec<Segment>, String> {
+    if let Some((from, to, arc)) = between {
+        let (ra, ia) = resolve_realization(a, s, from)?;
+        let (rb, ib) = resolve_realization(a, s, to)?;
+        let c = s.components.of_interval[ia];
+        if c != s.components.of_interval[ib] {
+            return Err("no path: the two realizations lie in different components (see `caymos path`)".into());
+        }
+        let both = arcs(&s.space, &s.components.list[c], (ia, ra.lambda), (ib, rb.lambda));
+        let pick = match arc {
+            Some(k @ (1 | 2)) => k - 1,
+            Some(_) => return Err("--arc is 1 or 2".into()),
+            None => {
+                let len = |segs: &[Segment]| segs.iter().map(|x| (x.to - x.from).abs()).sum::<f64>();
+                if len(&both[0]) <= len(&both[1]) { 0 } else { 1 }
+            }
+        };
+        return Ok(both[pick].clone());
+    }
+    let k = component.or(s.drawn_component).unwrap_or(0);
+    let comp = s.components.list.get(k).ok_or_else(|| {
+        format!(
+            "no component {k}: this scene has {} (0..{})",
+            s.components.list.len(),
+            s.components.list.len().saturating_sub(1)
+        )
+    })?;
+    Ok(component_segments(&s.space, comp))
+}
+
+/// Joint indices from `A,B,...` (all joints when `None`).
+pub fn parse_joints(a: &Analysis, list: Option<&str>) -> Result<Vec<usize>, String> {
+    match list {
+        None => Ok((0..a.linkage.n_joints()).collect()),
+        Some(text) => text
+            .split(',')
+            .map(|n| {
+                let n = n.trim();
+                a.linkage.names.iter().position(|x| x == n).ok_or_else(|| format!("--joints: no joint named \"{n}\""))
+            })
+            .collect(),
+    }
+}
+
+/// CSV of the walk: `index,lambda,type,A.x,A.y,...`.
+pub fn trace_csv(a: &Analysis, s: &Solved, segments: Vec<Segment>, joints: &[usize], step: f64) -> String {
+    let mut o = String::from("index,lambda,type");
+    for &j in joints {
+        let _ = write!(o, ",{0}.x,{0}.y", a.linkage.names[j]);
+    }
+    o.push('\n');
+    for (i, sample) in Stepper::new(&s.construction, &a.linkage, segments, step).enumerate() {
+        let _ = write!(o, "{i},{},{}", sample.lambda, sample.ty);
+        for &j in joints {
+            let p = sample.positions[j];
+            let _ = write!(o, ",{},{}", p[0], p[1]);
+        }
+        o.push('\n');
+    }
+    o
+}
+
+/// An SVG of the drawn realization with the traces of `joints` over the segments.
+pub fn svg(a: &Analysis, s: &Solved, segments: Vec<Segment>, joints: &[usize], step: f64) -> String {
+    let traces: Vec<Vec<[f64; 2]>> = {
+        let mut t = vec![Vec::new(); joints.len()];
+        for sample in Stepper::new(&s.construction, &a.linkage, segments, step) {
+            for (k, &j) in joints.iter().enumerate() {
+                t[k].push(sample.positions[j]);
+            }
+        }
+        t
+    };
+    let pose = s.drawn_positions.clone().unwrap_or_else(|| a.linkage.drawn.clone());
+    let all = pose.iter().chain(traces.iter().flatten());
+    let (mut x0, mut y0, mut x1, mut y1) = (f64::INFINITY, f64::INFINITY, f64::NEG_INFINITY, f64::NEG_INFINITY);
+    for p in all {
+        x0 = x0.min(p[0]);
+        y0 = y0.min(p[1]);
+        x1 = x1.max(p[0]);
+        y1 = y1.max(p[1]);
+    }
+    let pad = 0.06 * (x1 - x0).max(y1 - y0).max(1e-9);
+    let (w, h) = (x1 - x0 + 2.0 * pad, y1 - y0 + 2.0 * pad);
+    let stroke = 0.004 * w.max(h);
+    // y up in the scene, down in SVG: flip through the view box.
+    let (sx, sy) = (|x: f64| x - x0 + pad, |y: f64| y1 + pad - y);
+    let mut o = String::new();
+    let _ = writeln!(
+        o,
+        r#"<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 {w:.6} {h:.6}" width="800" height="{:.0}">"#,
+        800.0 * h / w
+    );
+    let _ = writeln!(o, "<title>{} — caymos</title>", xml_escape(&a.scene.name));
+    let palette = ["#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b", "#e377c2", "#17becf"];
+    for (k, t) in traces.iter().enumerate() {
+        let pts: Vec<String> = t.iter().map(|p| format!("{:.6},{:.6}", sx(p[0]), sy(p[1]))).collect();
+        let _ = writeln!(
+            o,
+            r#"<polyline fill="none" stroke="{}" stroke-width="{:.6}" stroke-opacity="0.7" points="{}"/>"#,
+            palette[k % palette.len()],
+            stroke * 0.6,
+            pts.join(" ")
+        );
+    }
+    for bar in &a.linkage.bars {
+        let (p, q) = (pose[bar.joints[0]], pose[bar.joints[1]]);
+        let _ = writeln!(
+            o,
+            r##"<line x1="{:.6}" y1="{:.6}" x2="{:.6}" y2="{:.6}" stroke="#333" stroke-width="{stroke:.6}"/>"##,
+            sx(p[0]),
+            sy(p[1]),
+            sx(q[0]),
+            sy(q[1])
+        );
+    }
+    for body in &a.linkage.bodies {
+        let pts: Vec<String> = body.iter().map(|&j| format!("{:.6},{:.6}", sx(pose[j][0]), sy(pose[j][1]))).collect();
+        let _ = writeln!(
+            o,
+            r##"<polygon points="{}" fill="#999" fill-opacity="0.3" stroke="#333" stroke-width="{stroke:.6}"/>"##,
+            pts.join(" ")
+        );
+    }
+    for (j, p) in pose.iter().enumerate() {
+        let ground = a.linkage.ground.contains(&j);
+        let _ = writeln!(
+            o,
+            r##"<circle cx="{:.6}" cy="{:.6}" r="{:.6}" fill="{}"/><text x="{:.6}" y="{:.6}" font-size="{:.6}" font-family="sans-serif">{}</text>"##,
+            sx(p[0]),
+            sy(p[1]),
+            stroke * 2.0,
+            if ground { "#000" } else { "#fff" },
+            sx(p[0]) + stroke * 3.0,
+            sy(p[1]) - stroke * 3.0,
+            stroke * 8.0,
+            xml_escape(&a.linkage.names[j])
+        );
+    }
+    o.push_str("</svg>\n");
+    o
+}
+
+fn xml_escape(s: &str) -> String {
+    s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;").replace('"', "&quot;")
+}

@@ -1,0 +1,291 @@
+//! Issue 4: components, paths, stepping, traces, Cayley distance, closest pair.
+
+use caymos::analysis::{Analysis, Solved, analyse};
+use caymos::builder::SceneBuilder;
+use caymos::bundled;
+use caymos::commands;
+use caymos::distance::{Arc, cayley_vector, closest_pair, euclid, mirror_images_exist};
+use caymos::generate::random_linkage;
+use caymos::motion::{Realization, Stepper, arcs, component_segments};
+use caymos::realize::bar_residual;
+use caymos::scene::Scene;
+use proptest::prelude::*;
+
+fn solve(scene: Scene) -> (Analysis, Solved) {
+    let a = analyse(scene, None).unwrap();
+    let s = a.outcome.clone().unwrap_or_else(|o| panic!("{}", o.describe(&a.linkage)));
+    (a, s)
+}
+
+fn four_bar(ab: f64, bc: f64, cd: f64, da: f64) -> Scene {
+    let mut b = SceneBuilder::new("four-bar");
+    b.joint("A", [0.0, 0.0]);
+    b.joint("B", [0.2 * da, 0.9 * ab.min(da)]);
+    b.joint("C", [0.8 * da, 0.5 * ab.min(da)]);
+    b.joint("D", [da, 0.0]);
+    b.bar_len("A", "B", ab).bar_len("B", "C", bc).bar_len("C", "D", cd).bar_len("D", "A", da);
+    b.base("A", "C").ground(&["D", "A"]);
+    b.build()
+}
+
+/// Structural invariants of the component list.
+fn check_components(s: &Solved) {
+    let n = s.space.intervals.len();
+    let mut seen = vec![0; n];
+    for (k, c) in s.components.list.iter().enumerate() {
+        assert!(c.closed, "generic scenes give closed cycles");
+        for &i in &c.intervals {
+            seen[i] += 1;
+            assert_eq!(s.components.of_interval[i], k);
+        }
+        // Consecutive intervals share an endpoint and differ in exactly the flat step's bit.
+        let m = c.intervals.len();
+        for t in 0..m {
+            let (i, j) = (c.intervals[t], c.intervals[(t + 1) % m]);
+            let (a, b) = (&s.space.intervals[i], &s.space.intervals[j]);
+            let leave = if c.forward[t] { &a.upper } else { &a.lower };
+            let enter = if c.forward[(t + 1) % m] { &b.lower } else { &b.upper };
+            assert_eq!(leave.id, enter.id, "consecutive intervals must share an endpoint");
+            assert_eq!(leave.lambda, enter.lambda);
+            let flat = leave.events[0].step;
+            let differing: Vec<usize> = (0..a.ty.0.len()).filter(|&k| a.ty.0[k] != b.ty.0[k]).collect();
+            if m > 1 {
+                assert_eq!(differing, vec![flat], "{} → {} at step {}", a.ty, b.ty, flat);
+            }
+        }
+    }
+    assert!(seen.iter().all(|&x| x == 1), "every oriented interval lies in exactly one component");
+}
+
+/// Walk a whole component; check the step bound, bar lengths, and the return to the start.
+fn check_stepping(a: &Analysis, s: &Solved, k: usize, step: f64) -> usize {
+    let segs = component_segments(&s.space, &s.components.list[k]);
+    let samples: Vec<_> = Stepper::new(&s.construction, &a.linkage, segs.clone(), step).collect();
+    assert!(samples.len() >= 2);
+    let scale = a.linkage.scale;
+    for w in samples.windows(2) {
+        let moved = w[0]
+            .positions
+            .iter()
+            .zip(&w[1].positions)
+            .map(|(p, q)| (p[0] - q[0]).hypot(p[1] - q[1]))
+            .fold(0.0, f64::max);
+        assert!(moved <= step * (1.0 + 1e-9) + 1e-7 * scale, "moved {moved} > {step}");
+    }
+    for x in &samples {
+        assert!(bar_residual(&a.linkage, &x.positions) <= 1e-9 * scale);
+    }
+    // Every segment end is hit exactly.
+    for (i, seg) in segs.iter().enumerate() {
+        assert!(samples.iter().any(|x| x.segment == i && x.lambda == seg.to && x.at_end), "segment {i} end missed");
+    }
+    let (first, last) = (&samples[0], samples.last().unwrap());
+    let gap =
+        first.positions.iter().zip(&last.positions).map(|(p, q)| (p[0] - q[0]).hypot(p[1] - q[1])).fold(0.0, f64::max);
+    assert!(gap <= 1e-9 * scale, "a full cycle returns to its start ({gap})");
+    samples.len()
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 48, ..ProptestConfig::default() })]
+
+    /// Grashof (both interval ends from one triangle): 2 components of 2
+    /// intervals; otherwise 1 component of 4 (THEORY.md §7).
+    #[test]
+    fn four_bar_components_follow_the_closed_form(ab in 0.1f64..10.0, bc in 0.1f64..10.0, cd in 0.1f64..10.0, da in 0.1f64..10.0) {
+        let (lo_abc, lo_adc) = ((ab - bc).abs(), (da - cd).abs());
+        let (hi_abc, hi_adc) = (ab + bc, da + cd);
+        let (lo, hi) = (lo_abc.max(lo_adc), hi_abc.min(hi_adc));
+        prop_assume!(hi - lo > 1e-6 * hi && (lo_abc - lo_adc).abs() > 1e-9 * hi && (hi_abc - hi_adc).abs() > 1e-9 * hi);
+        let (_, s) = solve(four_bar(ab, bc, cd, da));
+        let same_triangle = (lo_abc > lo_adc) == (hi_abc < hi_adc);
+        let sizes: Vec<usize> = s.components.list.iter().map(|c| c.intervals.len()).collect();
+        if same_triangle {
+            prop_assert_eq!(sizes, vec![2, 2]);
+        } else {
+            prop_assert_eq!(sizes, vec![4]);
+        }
+        check_components(&s);
+    }
+
+    /// Components, stepping and both path arcs on random 1-dof linkages.
+    #[test]
+    fn motion_invariants_hold_on_random_linkages(seed in any::<u64>(), steps in 1usize..6, tri in 0.0f64..0.7, pick in any::<u64>()) {
+        let (a, s) = solve(random_linkage(seed, steps, tri));
+        check_components(&s);
+        let k = (pick as usize) % s.components.list.len();
+        check_stepping(&a, &s, k, a.linkage.scale / 40.0);
+        // Two realizations in component k: both arcs start and end at them.
+        let comp = &s.components.list[k];
+        let arc = Arc::new(&s.space, comp);
+        let (ra, rb) = (arc.at(arc.total * 0.17), arc.at(arc.total * 0.71));
+        let loc = |r: &Realization| caymos::motion::locate(&s.space, r, a.linkage.scale).unwrap();
+        let both = arcs(&s.space, comp, (loc(&ra), ra.lambda), (loc(&rb), rb.lambda));
+        for segs in &both {
+            let first = segs.first().unwrap();
+            let last = segs.last().unwrap();
+            prop_assert_eq!(&first.ty, &ra.ty);
+            prop_assert_eq!(first.from, ra.lambda);
+            prop_assert_eq!(&last.ty, &rb.ty);
+            prop_assert_eq!(last.to, rb.lambda);
+            let walk: Vec<_> = Stepper::new(&s.construction, &a.linkage, segs.clone(), a.linkage.scale / 40.0).collect();
+            let end = walk.last().unwrap();
+            let target = caymos::realize::to_display(&a.linkage, s.dec.base, &s.construction.realize(rb.lambda, &rb.ty).unwrap());
+            let gap = end.positions.iter().zip(&target).map(|(p, q)| (p[0] - q[0]).hypot(p[1] - q[1])).fold(0.0, f64::max);
+            prop_assert!(gap <= 1e-9 * a.linkage.scale);
+        }
+        // Together the arcs cover the cycle: their interval counts add to m + 2.
+        let m = comp.intervals.len();
+        if loc(&ra) != loc(&rb) {
+            prop_assert_eq!(both[0].len() + both[1].len(), m + 2);
+        }
+    }
+
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 20, ..ProptestConfig::default() })]
+
+    /// The closest pair is never worse than a dense sample of both components,
+    /// and zero only for mirror images or where the two Cayley curves cross
+    /// (two different realizations, verified, with one Cayley vector).
+    #[test]
+    fn closest_pair_beats_a_dense_sample(seed in any::<u64>(), steps in 2usize..5, tri in 0.0f64..0.7) {
+        let (_, s) = solve(random_linkage(seed, steps, tri));
+        prop_assume!(s.components.list.len() >= 2);
+        let (ca, cb) = (&s.components.list[0], &s.components.list[1]);
+        let ccv = &s.complexity.ccv;
+        let c = closest_pair(&s.construction, &s.dec, &s.space, ccv, (ca, cb), 128).unwrap();
+        let (arc_a, arc_b) = (Arc::new(&s.space, ca), Arc::new(&s.space, cb));
+        let dense = |arc: &Arc| -> Vec<Vec<f64>> {
+            (0..200).filter_map(|i| {
+                let r = arc.at(arc.total * (i as f64 + 0.37) / 200.0);
+                s.construction.realize(r.lambda, &r.ty).ok().map(|p| cayley_vector(&p, ccv))
+            }).collect()
+        };
+        let (da, db) = (dense(&arc_a), dense(&arc_b));
+        let best = da.iter().flat_map(|x| db.iter().map(move |y| euclid(x, y))).fold(f64::INFINITY, f64::min);
+        prop_assert!(c.distance <= best + 1e-12 * s.construction.scale, "refined {} > dense {best}", c.distance);
+        // The reported pair really is at that distance, one in each component.
+        let va = cayley_vector(&s.construction.realize(c.a.lambda, &c.a.ty).unwrap(), ccv);
+        let vb = cayley_vector(&s.construction.realize(c.b.lambda, &c.b.ty).unwrap(), ccv);
+        prop_assert!((euclid(&va, &vb) - c.distance).abs() <= 1e-9 * s.construction.scale);
+        if c.distance <= 1e-9 * s.construction.scale {
+            let mirror = c.mirror && mirror_images_exist(&s.construction, &s.dec);
+            prop_assert!(mirror || c.crossing, "zero distance between different components, unexplained");
+        } else {
+            prop_assert!(!c.crossing && !c.mirror);
+        }
+    }
+}
+
+#[test]
+fn jansen_has_six_components_and_the_crank_turns_fully() {
+    let (a, s) = solve(bundled::load("jansen").unwrap());
+    assert_eq!(s.components.list.len(), 6);
+    check_components(&s);
+    let k = s.drawn_component.expect("drawn realization located");
+    let c = &s.components.list[k];
+    let op = (38.0f64 * 38.0 + 7.8 * 7.8).sqrt();
+    assert!((c.lambda_range[0] - (op - 15.0)).abs() < 1e-12 * a.linkage.scale);
+    assert!((c.lambda_range[1] - (op + 15.0)).abs() < 1e-12 * a.linkage.scale);
+    // A full crank turn: the type changes exactly twice, at the two crank ends.
+    let samples: Vec<_> = Stepper::new(&s.construction, &a.linkage, component_segments(&s.space, c), 0.5).collect();
+    let changes = samples.windows(2).filter(|w| w[0].ty != w[1].ty).count();
+    assert_eq!(changes, 2 - 1, "one change inside the walk, one where it closes");
+    assert_ne!(samples.first().unwrap().ty, samples[samples.len() / 2 + 1].ty);
+    assert_eq!(c.intervals.len(), 2);
+    check_stepping(&a, &s, k, 0.5);
+}
+
+#[test]
+fn limacon_has_three_components_and_paths_of_four_and_six_intervals() {
+    let (a, s) = solve(bundled::load("limacon").unwrap());
+    let mut sizes: Vec<usize> = s.components.list.iter().map(|c| c.intervals.len()).collect();
+    sizes.sort();
+    assert_eq!(sizes, vec![4, 4, 8]);
+    check_components(&s);
+    let k = s.components.list.iter().position(|c| c.intervals.len() == 8).unwrap();
+    let comp = &s.components.list[k];
+    let holding = |l: f64| -> Vec<usize> {
+        comp.intervals
+            .iter()
+            .copied()
+            .filter(|&i| s.space.intervals[i].lower.lambda <= l && l <= s.space.intervals[i].upper.lambda)
+            .collect()
+    };
+    let mut found = false;
+    for ia in holding(227.96) {
+        for ib in holding(246.96) {
+            let both = arcs(&s.space, comp, (ia, 227.96), (ib, 246.96));
+            let mut counts = [both[0].len(), both[1].len()];
+            counts.sort();
+            if counts == [4, 6] {
+                found = true;
+                // The same through the command, with JSON-ready output.
+                let from = format!("{}@227.96", s.space.intervals[ia].ty);
+                let to = format!("{}@246.96", s.space.intervals[ib].ty);
+                let p = commands::path(&a, &s, &from, &to, a.linkage.scale / 50.0).unwrap();
+                assert!(p.same_component && !p.same_type_path);
+                let mut n: Vec<usize> = p.paths.iter().map(|x| x.n_intervals).collect();
+                n.sort();
+                assert_eq!(n, vec![4, 6]);
+                assert!(p.paths.iter().all(|x| x.cayley_length > 0.0 && x.max_joint_travel > 0.0));
+            }
+        }
+    }
+    assert!(found, "no pair of realizations at 227.96 and 246.96 with arcs of 4 and 6 intervals");
+    for k in 0..3 {
+        check_stepping(&a, &s, k, 2.0);
+    }
+}
+
+#[test]
+fn grashof_four_bar_components_are_mirror_images_at_distance_zero() {
+    let (a, s) = solve(bundled::load("fourbar-crank-rocker").unwrap());
+    assert_eq!(s.components.list.len(), 2);
+    let c = commands::closest(&a, &s, 0, 1).unwrap();
+    assert_eq!(c.distance, 0.0);
+    assert!(c.mirror_images);
+}
+
+#[test]
+fn paths_between_components_give_the_closest_pair() {
+    let (a, s) = solve(bundled::load("jansen").unwrap());
+    let p = commands::path(&a, &s, "----@40", "-+--@40", 0.5).unwrap();
+    assert!(!p.same_component && p.paths.is_empty());
+    let c = p.closest_pair.expect("closest pair given");
+    assert!(c.distance > 0.0 && c.distance <= c.best_sampled);
+    assert!(!c.mirror_images, "Jansen's triangles are chiral");
+}
+
+#[test]
+fn unrealizable_specs_are_rejected_with_a_reason() {
+    let (a, s) = solve(bundled::load("jansen").unwrap());
+    let err = commands::path(&a, &s, "--+-@24", "drawn", 1.0).unwrap_err();
+    assert!(err.contains("not realizable") && err.contains("26.24"), "{err}");
+    assert!(commands::path(&a, &s, "-+@30", "drawn", 1.0).unwrap_err().contains("4 steps"));
+    assert!(commands::path(&a, &s, "x", "drawn", 1.0).unwrap_err().contains("TYPE@LAMBDA"));
+}
+
+#[test]
+fn motion_commands_run_on_every_bundled_scene() {
+    for b in bundled::BUNDLED {
+        let a = analyse(bundled::load(b.name).unwrap(), None).unwrap();
+        let Ok(s) = a.outcome.clone() else { continue };
+        let step = commands::default_step(&a);
+        let p = commands::path(&a, &s, "drawn", "drawn", step).unwrap();
+        assert!(p.same_component && p.same_type_path, "{}", b.name);
+        let segs = commands::trace_segments(&a, &s, None, None).unwrap();
+        let csv = commands::trace_csv(&a, &s, segs.clone(), &[0, 1], step);
+        let header = csv.lines().next().unwrap();
+        assert!(header.starts_with("index,lambda,type,") && header.ends_with(".y"), "{header}");
+        assert!(csv.lines().count() > 3, "{}", b.name);
+        let svg = commands::svg(&a, &s, segs, &[0], step);
+        assert!(svg.starts_with("<svg") && svg.contains("polyline"));
+        if s.components.list.len() >= 2 {
+            let c = commands::closest(&a, &s, 0, 1).unwrap();
+            assert!(c.distance >= 0.0 && c.distance <= c.best_sampled, "{}", b.name);
+        }
+    }
+}
