@@ -262,11 +262,25 @@ pub fn parse_joints(a: &Analysis, list: Option<&str>) -> Result<Vec<usize>, Stri
     }
 }
 
-/// CSV of the walk: `index,lambda,type,A.x,A.y,...`.
-pub fn trace_csv(a: &Analysis, s: &Solved, segments: Vec<Segment>, joints: &[usize], step: f64) -> String {
+/// CSV of the walk: `index,lambda,type,A.x,A.y,...`; with `cayley`, the
+/// complete Cayley distance vector follows (columns named `A-B`): the Cayley
+/// curve of the component or path.
+pub fn trace_csv(
+    a: &Analysis,
+    s: &Solved,
+    segments: Vec<Segment>,
+    joints: &[usize],
+    step: f64,
+    cayley: bool,
+) -> String {
     let mut o = String::from("index,lambda,type");
     for &j in joints {
         let _ = write!(o, ",{0}.x,{0}.y", a.linkage.names[j]);
+    }
+    if cayley {
+        for &[p, q] in &s.complexity.ccv {
+            let _ = write!(o, ",{}-{}", a.linkage.names[p], a.linkage.names[q]);
+        }
     }
     o.push('\n');
     for (i, sample) in Stepper::new(&s.construction, &a.linkage, segments, step).enumerate() {
@@ -274,6 +288,11 @@ pub fn trace_csv(a: &Analysis, s: &Solved, segments: Vec<Segment>, joints: &[usi
         for &j in joints {
             let p = sample.positions[j];
             let _ = write!(o, ",{},{}", p[0], p[1]);
+        }
+        if cayley {
+            for d in crate::distance::cayley_vector(&sample.positions, &s.complexity.ccv) {
+                let _ = write!(o, ",{d}");
+            }
         }
         o.push('\n');
     }

@@ -44,9 +44,10 @@ enum Command {
     /// Both motion paths between two realizations (`drawn` or TYPE@LAMBDA), or the closest pair.
     Path {
         scene: Option<String>,
-        #[arg(long)]
+        /// `drawn` or TYPE@LAMBDA, e.g. `-+-+@41.2`.
+        #[arg(long, allow_hyphen_values = true)]
         from: String,
-        #[arg(long)]
+        #[arg(long, allow_hyphen_values = true)]
         to: String,
         #[arg(long, value_enum, default_value = "text")]
         format: Format,
@@ -60,9 +61,9 @@ enum Command {
         /// Component index as in the report (default: the drawn realization's).
         #[arg(long, conflicts_with_all = ["from", "to"])]
         component: Option<usize>,
-        #[arg(long, requires = "to")]
+        #[arg(long, requires = "to", allow_hyphen_values = true)]
         from: Option<String>,
-        #[arg(long, requires = "from")]
+        #[arg(long, requires = "from", allow_hyphen_values = true)]
         to: Option<String>,
         /// Which arc between --from and --to: 1 (along the component) or 2 (against); default the shorter.
         #[arg(long)]
@@ -72,6 +73,9 @@ enum Command {
         joints: Option<String>,
         #[arg(long)]
         step: Option<f64>,
+        /// Append the complete Cayley distance vector (the Cayley curve) to each row.
+        #[arg(long)]
+        cayley: bool,
         #[arg(long)]
         output: Option<std::path::PathBuf>,
     },
@@ -159,13 +163,13 @@ fn run(command: Command) -> Result<u8, Failure> {
             }
             Ok(0)
         }
-        Command::Trace { scene, component, from, to, arc, joints, step, output } => {
+        Command::Trace { scene, component, from, to, arc, joints, step, cayley, output } => {
             let (a, s) = solved(scene.as_deref())?;
             let step = positive_step(step, &a)?;
             let joints = commands::parse_joints(&a, joints.as_deref()).map_err(arg_error)?;
             let between = from.as_deref().zip(to.as_deref()).map(|(f, t)| (f, t, arc));
             let segments = commands::trace_segments(&a, &s, component, between).map_err(arg_error)?;
-            write_out(output, &commands::trace_csv(&a, &s, segments, &joints, step))?;
+            write_out(output, &commands::trace_csv(&a, &s, segments, &joints, step, cayley))?;
             Ok(0)
         }
         Command::Closest { scene, components, format } => {

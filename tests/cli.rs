@@ -102,3 +102,44 @@ fn bad_arguments_exit_with_1() {
     let ok = caymos(&["report", "jansen", "--base", "O,Y", "--format", "json"]);
     assert_eq!(ok.status.code(), Some(0), "{}", stderr(&ok));
 }
+
+#[test]
+fn motion_commands_through_the_binary() {
+    // path: JSON with both arcs, as the issue specifies.
+    let out = caymos(&["path", "limacon", "--from", "drawn", "--to", "-+-+@200", "--format", "json"]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(json["same_component"], true);
+    assert_eq!(json["paths"].as_array().unwrap().len(), 2);
+    for key in ["intervals", "n_intervals", "cayley_length", "max_joint_travel"] {
+        assert!(!json["paths"][0][key].is_null(), "{key}");
+    }
+    assert!(json["closest_pair"].is_null());
+    // Different components: the closest pair instead.
+    let out = caymos(&["path", "limacon", "--from", "----@150", "--to", "+---@150", "--format", "json"]);
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(json["same_component"], false);
+    assert!(json["closest_pair"]["distance"].as_f64().unwrap() >= 0.0);
+    // An unrealizable realization is a clear error, exit 1.
+    let out = caymos(&["path", "jansen", "--from", "--+-@24", "--to", "drawn"]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(stderr(&out).contains("not realizable"), "{}", stderr(&out));
+    // trace: CSV header and rows, to a file.
+    let file = std::env::temp_dir().join(format!("caymos-trace-{}.csv", std::process::id()));
+    let out =
+        caymos(&["trace", "jansen", "--joints", "F,K", "--step", "1", "--cayley", "--output", file.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let csv = std::fs::read_to_string(&file).unwrap();
+    assert!(csv.starts_with("index,lambda,type,F.x,F.y,K.x,K.y,P-X,"), "{}", csv.lines().next().unwrap());
+    assert!(csv.lines().count() > 50);
+    std::fs::remove_file(&file).ok();
+    // closest and svg.
+    let out = caymos(&["closest", "jansen", "--components", "0,2", "--format", "json"]);
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert!(json["distance"].as_f64().unwrap() > 0.0 && !json["certificate"].as_str().unwrap().is_empty());
+    assert_eq!(caymos(&["closest", "jansen", "--components", "0,99"]).status.code(), Some(1));
+    let out = caymos(&["svg", "jansen", "--joints", "F"]);
+    assert!(String::from_utf8_lossy(&out.stdout).starts_with("<svg"));
+    // A scene outside the class: exit 2 for motion commands too.
+    assert_eq!(caymos(&["path", "fig1c", "--from", "drawn", "--to", "drawn"]).status.code(), Some(2));
+}

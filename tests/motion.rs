@@ -277,9 +277,10 @@ fn motion_commands_run_on_every_bundled_scene() {
         let p = commands::path(&a, &s, "drawn", "drawn", step).unwrap();
         assert!(p.same_component && p.same_type_path, "{}", b.name);
         let segs = commands::trace_segments(&a, &s, None, None).unwrap();
-        let csv = commands::trace_csv(&a, &s, segs.clone(), &[0, 1], step);
+        let csv = commands::trace_csv(&a, &s, segs.clone(), &[0, 1], step, true);
         let header = csv.lines().next().unwrap();
-        assert!(header.starts_with("index,lambda,type,") && header.ends_with(".y"), "{header}");
+        assert!(header.starts_with("index,lambda,type,") && header.contains(".y,"), "{header}");
+        assert_eq!(header.split(',').count(), 3 + 4 + s.complexity.ccv.len());
         assert!(csv.lines().count() > 3, "{}", b.name);
         let svg = commands::svg(&a, &s, segs, &[0], step);
         assert!(svg.starts_with("<svg") && svg.contains("polyline"));
