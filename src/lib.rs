@@ -28,3 +28,4 @@ pub mod realize;
 pub mod report;
 pub mod scene;
 pub mod tolerance;
+pub mod tui;

@@ -12,8 +12,16 @@ use caymos::report::Report;
 use caymos::scene::Scene;
 
 #[derive(Parser, Debug)]
-#[command(name = "caymos", version, about = "Cayley analysis of 1-dof tree-decomposable planar linkages")]
+#[command(
+    name = "caymos",
+    version,
+    about = "Cayley analysis of 1-dof tree-decomposable planar linkages",
+    long_about = "Cayley analysis of 1-dof tree-decomposable planar linkages.\n\nWith no command, `caymos [SCENE]` opens the terminal UI (on the bundled Jansen leg by default).",
+    args_conflicts_with_subcommands = true
+)]
 struct Cli {
+    /// A scene file or bundled scene name to open in the terminal UI.
+    scene: Option<String>,
     #[command(subcommand)]
     command: Option<Command>,
 }
@@ -26,6 +34,14 @@ enum Format {
 
 #[derive(Subcommand, Debug)]
 enum Command {
+    /// Explore a scene in the terminal UI (the default command).
+    Tui {
+        /// A scene file, or the name of a bundled scene (default: the Jansen leg).
+        scene: Option<String>,
+        /// The base non-edge as two joint names.
+        #[arg(long)]
+        base: Option<String>,
+    },
     /// Analyse a scene: class, base, steps, complexity, Cayley vector, drawn realization.
     Report {
         /// A scene file, or the name of a bundled scene (default: the Jansen leg).
@@ -123,7 +139,7 @@ fn main() -> ExitCode {
             return ExitCode::from(code);
         }
     };
-    let command = cli.command.unwrap_or(Command::Report { scene: None, format: Format::Text, base: None, all: false });
+    let command = cli.command.unwrap_or(Command::Tui { scene: cli.scene, base: None });
     match run(command) {
         Ok(code) => ExitCode::from(code),
         Err(f) => {
@@ -135,10 +151,22 @@ fn main() -> ExitCode {
 
 fn run(command: Command) -> Result<u8, Failure> {
     match command {
+        Command::Tui { scene, base } => {
+            let scene = bundled::resolve(scene.as_deref())?;
+            let base = base.map(|b| parse_base(&scene, &b)).transpose()?;
+            if !std::io::IsTerminal::is_terminal(&std::io::stdout()) {
+                return Err(Failure {
+                    message: "the terminal UI needs a terminal; for scripts use `caymos report` (see --help)".into(),
+                    code: 1,
+                });
+            }
+            caymos::tui::run(scene, base).map_err(|e| Failure { message: format!("terminal: {e}"), code: 1 })?;
+            Ok(0)
+        }
         Command::List => {
             for b in bundled::BUNDLED {
                 let scene = bundled::load(b.name)?;
-                println!("{:<22} {}", b.name, scene.description.unwrap_or_default());
+                emit(&format!("{:<22} {}\n", b.name, scene.description.unwrap_or_default()));
             }
             Ok(0)
         }
@@ -148,8 +176,8 @@ fn run(command: Command) -> Result<u8, Failure> {
             let analysis = analyse(scene, base)?;
             let report = Report::new(&analysis);
             match format {
-                Format::Json => println!("{}", report.to_json()),
-                Format::Text => print!("{}", report.to_text_with(all)),
+                Format::Json => emit(&format!("{}\n", report.to_json())),
+                Format::Text => emit(&report.to_text_with(all)),
             }
             Ok(if report.one_dof_tree_decomposable { 0 } else { 2 })
         }
@@ -158,8 +186,8 @@ fn run(command: Command) -> Result<u8, Failure> {
             let step = positive_step(step, &a)?;
             let report = commands::path(&a, &s, &from, &to, step).map_err(arg_error)?;
             match format {
-                Format::Json => println!("{}", serde_json::to_string_pretty(&report).expect("serializes")),
-                Format::Text => print!("{}", report.to_text()),
+                Format::Json => emit(&format!("{}\n", serde_json::to_string_pretty(&report).expect("serializes"))),
+                Format::Text => emit(&report.to_text()),
             }
             Ok(0)
         }
@@ -180,11 +208,12 @@ fn run(command: Command) -> Result<u8, Failure> {
             };
             let c = commands::closest(&a, &s, i, j).map_err(arg_error)?;
             match format {
-                Format::Json => println!("{}", serde_json::to_string_pretty(&c).expect("serializes")),
+                Format::Json => emit(&format!("{}\n", serde_json::to_string_pretty(&c).expect("serializes"))),
                 Format::Text => {
-                    println!("Closest pair between components {i} and {j}: Cayley distance {}", c.distance);
-                    println!("  {}@{}  and  {}@{}", c.a.ty, c.a.lambda, c.b.ty, c.b.lambda);
-                    println!("  {}", c.certificate);
+                    emit(&format!(
+                        "Closest pair between components {i} and {j}: Cayley distance {}\n  {}@{}  and  {}@{}\n  {}\n",
+                        c.distance, c.a.ty, c.a.lambda, c.b.ty, c.b.lambda, c.certificate
+                    ));
                 }
             }
             Ok(0)
@@ -197,6 +226,20 @@ fn run(command: Command) -> Result<u8, Failure> {
             write_out(output, &commands::svg(&a, &s, segments, &joints, step))?;
             Ok(0)
         }
+    }
+}
+
+/// Write to stdout; a reader that went away (`caymos list | head`) ends the
+/// program quietly instead of panicking.
+fn emit(text: &str) {
+    use std::io::Write;
+    let mut out = std::io::stdout().lock();
+    if let Err(e) = out.write_all(text.as_bytes()).and_then(|_| out.flush()) {
+        if e.kind() == std::io::ErrorKind::BrokenPipe {
+            std::process::exit(0);
+        }
+        eprintln!("caymos: cannot write output: {e}");
+        std::process::exit(1);
     }
 }
 
@@ -222,7 +265,7 @@ fn write_out(output: Option<std::path::PathBuf>, text: &str) -> Result<(), Failu
         Some(path) => std::fs::write(&path, text)
             .map_err(|e| Failure { message: format!("{}: cannot write: {e}", path.display()), code: 1 }),
         None => {
-            print!("{text}");
+            emit(text);
             Ok(())
         }
     }

@@ -333,25 +333,30 @@ impl<'a> Stepper<'a> {
         Stepper { con, linkage, done: segments.is_empty(), segments, step, seg: 0, lambda, last: None, delta }
     }
 
-    /// Positions at λ; where a step degenerates exactly there (its base
-    /// joints coincide, as in a folded rhombus) the limit is taken by nudging
-    /// λ toward the segment's interior.
     fn positions(&self, lambda: f64, ty: &RealizationType) -> Option<Vec<P2<f64>>> {
         let s = &self.segments[self.seg];
-        let inward = if lambda == s.to { s.from - s.to } else { s.to - s.from }.signum();
-        let flat: &[usize] = if lambda == s.to {
-            &s.flat_to
-        } else if lambda == s.from {
-            &s.flat_from
-        } else {
-            &[]
-        };
-        let n = self.con.steps.len();
-        let pos = self.con.realize_flat(lambda, &ty.0, n, flat).ok().or_else(|| {
-            [1e-12, 1e-10, 1e-8].iter().find_map(|e| self.con.realize(lambda + inward * e * self.con.scale, ty).ok())
-        })?;
-        Some(to_display(self.linkage, self.con.base, &pos))
+        realization_at(self.con, self.linkage, &Segment { ty: ty.clone(), ..s.clone() }, lambda)
     }
+}
+
+/// Joint positions (display frame) at λ on a segment. At the segment's ends
+/// the steps flat there are placed exactly flat; where a step degenerates
+/// exactly at λ (its base joints coincide, as in a folded rhombus) the limit
+/// is taken by nudging λ toward the segment's interior.
+pub fn realization_at(con: &Construction<f64>, linkage: &Linkage, s: &Segment, lambda: f64) -> Option<Vec<P2<f64>>> {
+    let inward = if lambda == s.to { s.from - s.to } else { s.to - s.from }.signum();
+    let flat: &[usize] = if lambda == s.to {
+        &s.flat_to
+    } else if lambda == s.from {
+        &s.flat_from
+    } else {
+        &[]
+    };
+    let n = con.steps.len();
+    let pos = con.realize_flat(lambda, &s.ty.0, n, flat).ok().or_else(|| {
+        [1e-12, 1e-10, 1e-8].iter().find_map(|e| con.realize(lambda + inward * e * con.scale, &s.ty).ok())
+    })?;
+    Some(to_display(linkage, con.base, &pos))
 }
 
 fn max_move(a: &[P2<f64>], b: &[P2<f64>]) -> f64 {

@@ -1,0 +1,450 @@
+//! Drawing: the app state in, widgets out. Nothing here changes state.
+
+use ratatui::Frame;
+use ratatui::layout::{Alignment, Constraint, Layout, Rect};
+use ratatui::style::Style;
+use ratatui::symbols::Marker;
+use ratatui::text::{Line, Span};
+use ratatui::widgets::canvas::{Canvas, Context, Line as Segment2, Points};
+use ratatui::widgets::{Block, Clear, Paragraph, Wrap};
+
+use super::app::{App, Model, Motion, Screen, View};
+use super::keymap::BINDINGS;
+use super::theme::Theme;
+use crate::report::fmt_num;
+
+/// The smallest terminal the layout works in.
+pub const MIN_WIDTH: u16 = 60;
+pub const MIN_HEIGHT: u16 = 18;
+
+pub fn draw(frame: &mut Frame, app: &mut App, theme: Theme) {
+    let area = frame.area();
+    if area.width < MIN_WIDTH || area.height < MIN_HEIGHT {
+        let text = format!(
+            "caymos needs a terminal of at least {MIN_WIDTH}×{MIN_HEIGHT};\nthis one is {}×{}. Enlarge it, or press q to quit.",
+            area.width, area.height
+        );
+        let y = area.height / 2;
+        let rect = Rect { x: area.x, y: area.y + y.saturating_sub(1), width: area.width, height: 2.min(area.height) };
+        frame.render_widget(Paragraph::new(text).alignment(Alignment::Center).style(theme.warn()), rect);
+        return;
+    }
+    let [body, status, keys] =
+        Layout::vertical([Constraint::Min(8), Constraint::Length(1), Constraint::Length(1)]).areas(area);
+    match &mut app.screen {
+        Screen::Loading { scene } => {
+            let p =
+                Paragraph::new(format!("analysing {scene} …")).alignment(Alignment::Center).block(Block::bordered());
+            frame.render_widget(p, body);
+        }
+        Screen::Failed { scene, message } => {
+            let p = Paragraph::new(vec![
+                Line::styled(format!("{scene}: cannot explore this scene"), theme.warn()),
+                Line::raw(""),
+                Line::raw(message.clone()),
+            ])
+            .wrap(Wrap { trim: true })
+            .block(Block::bordered().title(Span::styled(" caymos ", theme.title())));
+            frame.render_widget(p, body);
+        }
+        Screen::Ready(m) => draw_model(frame, m, body, theme),
+    }
+    draw_status(frame, app, status, theme);
+    draw_keys(frame, app, keys, theme);
+    if app.help {
+        draw_help(frame, area, theme);
+    }
+}
+
+fn draw_model(frame: &mut Frame, m: &mut Model, area: Rect, theme: Theme) {
+    let side = if area.width >= 120 { 38 } else { 30 };
+    let max_rows = (area.height / 3).max(4);
+    let comp_rows = m.solved.components.list[m.component].intervals.len() as u16;
+    let chart_h = (comp_rows + 3).min(max_rows);
+    let [top, chart] = Layout::vertical([Constraint::Min(6), Constraint::Length(chart_h)]).areas(area);
+    let [main, right] = Layout::horizontal([Constraint::Min(20), Constraint::Length(side)]).areas(top);
+    let ccv_rows = m.solved.complexity.ccv.len() as u16;
+    let [readout, comps] =
+        Layout::vertical([Constraint::Length((ccv_rows + 6).min(top.height / 2 + 2)), Constraint::Min(3)]).areas(right);
+    match m.view {
+        View::Linkage => draw_linkage(frame, m, main, theme),
+        View::CayleyCurve => draw_curve(frame, m, main, theme),
+    }
+    draw_readout(frame, m, readout, theme);
+    draw_components(frame, m, comps, theme);
+    draw_intervals(frame, m, chart, theme);
+}
+
+/// Canvas bounds with equal scale on both axes (a cell is about twice as tall as wide).
+fn equal_bounds(b: [f64; 4], area: Rect) -> ([f64; 2], [f64; 2]) {
+    let (w, h) = (f64::from(area.width.saturating_sub(2).max(1)), f64::from(area.height.saturating_sub(2).max(1)));
+    let (cx, cy) = ((b[0] + b[2]) / 2.0, (b[1] + b[3]) / 2.0);
+    let mut dx = (b[2] - b[0]).max(1e-12) * 1.08;
+    let mut dy = (b[3] - b[1]).max(1e-12) * 1.08;
+    // Units per cell: horizontally dx / w, vertically dy / h; a cell is 2:1 tall.
+    if dy / h < 2.0 * dx / w {
+        dy = 2.0 * dx / w * h;
+    } else {
+        dx = dy / h / 2.0 * w;
+    }
+    ([cx - dx / 2.0, cx + dx / 2.0], [cy - dy / 2.0, cy + dy / 2.0])
+}
+
+fn dashed(ctx: &mut Context, p: [f64; 2], q: [f64; 2], color: ratatui::style::Color) {
+    const DASHES: usize = 9;
+    for k in 0..DASHES {
+        let (t0, t1) = (k as f64 / DASHES as f64, (k as f64 + 0.5) / DASHES as f64);
+        let at = |t: f64| [p[0] + (q[0] - p[0]) * t, p[1] + (q[1] - p[1]) * t];
+        let (a, b) = (at(t0), at(t1));
+        ctx.draw(&Segment2::new(a[0], a[1], b[0], b[1], color));
+    }
+}
+
+fn motion_label(m: &Model) -> String {
+    match m.motion {
+        Motion::Component(k) => format!("component {k} of {}", m.n_components()),
+        Motion::Path { arc } => format!("path {} A→B", arc + 1),
+    }
+}
+
+fn draw_linkage(frame: &mut Frame, m: &mut Model, area: Rect, theme: Theme) {
+    let (xb, yb) = equal_bounds(m.bounds, area);
+    let traces: Vec<(usize, Vec<(f64, f64)>)> = if m.traces_on {
+        let traced: Vec<usize> = (0..m.traced.len()).filter(|&j| m.traced[j]).collect();
+        let s = m.samples();
+        traced.iter().map(|&j| (j, s.positions.iter().map(|p| (p[j][0], p[j][1])).collect())).collect()
+    } else {
+        Vec::new()
+    };
+    let l = &m.analysis.linkage;
+    let pos = &m.positions;
+    let ccv = &m.solved.complexity.ccv;
+    let title = Line::from(vec![
+        Span::styled(format!(" {} ", m.analysis.scene.name), theme.title()),
+        Span::styled(format!("· {} ", motion_label(m)), theme.dim()),
+    ]);
+    let canvas = Canvas::default()
+        .block(Block::bordered().title(title))
+        .marker(Marker::Braille)
+        .x_bounds(xb)
+        .y_bounds(yb)
+        .paint(|ctx| {
+            for (k, (_, t)) in traces.iter().enumerate() {
+                ctx.draw(&Points::new(t, theme.trace(k)));
+            }
+            ctx.layer();
+            for &[p, q] in ccv {
+                dashed(ctx, pos[p], pos[q], theme.non_edge());
+            }
+            for bar in &l.bars {
+                let (p, q) = (pos[bar.joints[0]], pos[bar.joints[1]]);
+                ctx.draw(&Segment2::new(p[0], p[1], q[0], q[1], theme.bar()));
+            }
+            for body in &l.bodies {
+                for (i, &a) in body.iter().enumerate() {
+                    let b = body[(i + 1) % body.len()];
+                    ctx.draw(&Segment2::new(pos[a][0], pos[a][1], pos[b][0], pos[b][1], theme.bar()));
+                }
+            }
+            let tick = (xb[1] - xb[0]) * 0.015;
+            for &g in &l.ground {
+                let p = pos[g];
+                ctx.draw(&Segment2::new(p[0] - tick, p[1] - tick, p[0] + tick, p[1] - tick, theme.ground()));
+                ctx.draw(&Segment2::new(p[0] - tick, p[1] - tick, p[0], p[1], theme.ground()));
+                ctx.draw(&Segment2::new(p[0] + tick, p[1] - tick, p[0], p[1], theme.ground()));
+            }
+            ctx.layer();
+            let joints: Vec<(f64, f64)> = pos.iter().map(|p| (p[0], p[1])).collect();
+            ctx.draw(&Points::new(&joints, theme.joint()));
+            for (j, p) in pos.iter().enumerate() {
+                let style = if j == m.selected_joint { theme.highlight() } else { Style::default().fg(theme.joint()) };
+                ctx.print(p[0] + tick * 0.5, p[1], Line::styled(l.names[j].clone(), style));
+            }
+        });
+    frame.render_widget(canvas, area);
+}
+
+fn draw_curve(frame: &mut Frame, m: &mut Model, area: Rect, theme: Theme) {
+    let axes = m.axes;
+    let (yaw, pitch) = (m.yaw, m.pitch);
+    let current = m.cayley_vector();
+    let ccv_names: Vec<String> = m.solved.complexity.ccv.iter().map(|&p| m.analysis.linkage.pair_name(p)).collect();
+    let mirror = crate::distance::mirror_images_exist(&m.solved.construction, &m.solved.dec);
+    let s = m.samples();
+    let pick = |v: &[f64]| axes.map(|a| v.get(a).copied().unwrap_or(0.0));
+    let mut lo = [f64::INFINITY; 3];
+    let mut hi = [f64::NEG_INFINITY; 3];
+    for v in s.cayley.iter().chain(std::iter::once(&current)) {
+        for (k, x) in pick(v).into_iter().enumerate() {
+            lo[k] = lo[k].min(x);
+            hi[k] = hi[k].max(x);
+        }
+    }
+    // Normalise each axis to [-1, 1], rotate (yaw about the vertical, then pitch), project.
+    let project = |v: &[f64]| -> (f64, f64) {
+        let u = pick(v);
+        let n: Vec<f64> =
+            (0..3).map(|k| if hi[k] > lo[k] { 2.0 * (u[k] - lo[k]) / (hi[k] - lo[k]) - 1.0 } else { 0.0 }).collect();
+        let (x, y, z) = (n[0], n[2], n[1]);
+        let (x1, z1) = (x * yaw.cos() + z * yaw.sin(), -x * yaw.sin() + z * yaw.cos());
+        let y1 = y * pitch.cos() - z1 * pitch.sin();
+        (x1, y1)
+    };
+    let mut types: Vec<&crate::realize::RealizationType> = Vec::new();
+    let mut runs: Vec<(usize, Vec<(f64, f64)>)> = Vec::new();
+    for (v, ty) in s.cayley.iter().zip(&s.types) {
+        let k = types.iter().position(|t| *t == ty).unwrap_or_else(|| {
+            types.push(ty);
+            types.len() - 1
+        });
+        match runs.last_mut() {
+            Some((kk, pts)) if *kk == k => pts.push(project(v)),
+            _ => runs.push((k, vec![project(v)])),
+        }
+    }
+    let here = project(&current);
+    let (xb, yb) = equal_bounds([-1.8, -1.8, 1.8, 1.8], area);
+    let names: Vec<&str> = axes.iter().map(|&a| ccv_names.get(a).map_or("-", String::as_str)).collect();
+    let title = Line::from(vec![
+        Span::styled(" Cayley curve ", theme.title()),
+        Span::styled(format!("{} · {} ", names.join(" × "), motion_label(m)), theme.dim()),
+        Span::styled(if mirror { "(stands for a mirror pair) " } else { "" }, theme.dim()),
+    ]);
+    let canvas = Canvas::default()
+        .block(Block::bordered().title(title))
+        .marker(Marker::Braille)
+        .x_bounds(xb)
+        .y_bounds(yb)
+        .paint(|ctx| {
+            for (k, pts) in &runs {
+                for w in pts.windows(2) {
+                    ctx.draw(&Segment2::new(w[0].0, w[0].1, w[1].0, w[1].1, theme.of_type(*k)));
+                }
+            }
+            ctx.layer();
+            ctx.print(here.0, here.1, Line::styled("●", theme.highlight()));
+        });
+    frame.render_widget(canvas, area);
+}
+
+fn draw_readout(frame: &mut Frame, m: &Model, area: Rect, theme: Theme) {
+    let l = &m.analysis.linkage;
+    let here = m.current();
+    let flat = m.flat_here();
+    let mut ty_spans = vec![Span::raw("type ")];
+    for (k, c) in here.ty.to_string().chars().enumerate() {
+        let style = if flat.contains(&k) { theme.highlight() } else { theme.text() };
+        ty_spans.push(Span::styled(c.to_string(), style));
+    }
+    let flat_text = if flat.is_empty() {
+        "—".to_string()
+    } else {
+        flat.iter()
+            .map(|&k| {
+                let s = &m.solved.dec.steps[k];
+                format!("step {} ({})", k + 1, l.names[s.vertex])
+            })
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let mut lines = vec![
+        Line::from(vec![Span::raw("λ    "), Span::styled(format!("{:.6}", here.lambda), theme.highlight())]),
+        Line::from(ty_spans),
+        Line::raw(format!("flat {flat_text}")),
+        Line::raw(format!("step {}{}", fmt_num(m.step), if m.playing { "  ▶ playing" } else { "" })),
+    ];
+    let v = m.cayley_vector();
+    for (k, &[p, q]) in m.solved.complexity.ccv.iter().enumerate() {
+        let name = format!("{}–{}", l.names[p], l.names[q]);
+        lines.push(Line::from(vec![
+            Span::styled(format!("{name:<10}"), theme.dim()),
+            Span::raw(format!("{:.4}", v[k])),
+        ]));
+    }
+    let p = Paragraph::new(lines).block(Block::bordered().title(Span::styled(" realization ", theme.title())));
+    frame.render_widget(p, area);
+}
+
+fn draw_components(frame: &mut Frame, m: &Model, area: Rect, theme: Theme) {
+    let s = &m.solved;
+    let rows = area.height.saturating_sub(2) as usize;
+    let n = s.components.list.len();
+    let first = m.component.saturating_sub(rows.saturating_sub(1) / 2).min(n.saturating_sub(rows));
+    let lines: Vec<Line> = s
+        .components
+        .list
+        .iter()
+        .enumerate()
+        .skip(first)
+        .take(rows)
+        .map(|(k, c)| {
+            let here = k == m.component;
+            let drawn = s.drawn_component == Some(k);
+            let text = format!(
+                "{}{:>2} {:>2} iv [{}, {}]{}",
+                if here { "▸" } else { " " },
+                k,
+                c.intervals.len(),
+                fmt_num(c.lambda_range[0]),
+                fmt_num(c.lambda_range[1]),
+                if drawn { " *" } else { "" }
+            );
+            Line::styled(text, if here { theme.highlight() } else { theme.text() })
+        })
+        .collect();
+    let title = Span::styled(format!(" components ({n}) "), theme.title());
+    frame.render_widget(Paragraph::new(lines).block(Block::bordered().title(title)), area);
+}
+
+fn draw_intervals(frame: &mut Frame, m: &Model, area: Rect, theme: Theme) {
+    let s = &m.solved;
+    let union = &s.union;
+    let (Some(first), Some(last)) = (union.first(), union.last()) else { return };
+    let (lo, hi) = (first[0], last[1]);
+    let n_steps = s.dec.steps.len();
+    let label_w = n_steps.clamp(5, 12);
+    let inner = area.width.saturating_sub(2) as usize;
+    let width = inner.saturating_sub(label_w + 3).max(4);
+    let col = |x: f64| -> usize {
+        let t = if hi > lo { (x - lo) / (hi - lo) } else { 0.5 };
+        ((t * (width - 1) as f64).round().max(0.0) as usize).min(width - 1)
+    };
+    let bar = |spans: &[(f64, f64)], cursor: Option<f64>| -> String {
+        let mut row = vec![' '; width];
+        for &(a, b) in spans {
+            let (ca, cb) = (col(a), col(b));
+            for c in row.iter_mut().take(cb + 1).skip(ca) {
+                *c = '━';
+            }
+            if a == b {
+                row[ca] = '•';
+            }
+        }
+        if let Some(x) = cursor {
+            row[col(x)] = '┃';
+        }
+        row.into_iter().collect()
+    };
+    let here = m.current();
+    let cur_interval = m.segments[m.seg].interval;
+    let mut lines = vec![Line::from(vec![
+        Span::styled(format!("{:<label_w$} ", "union"), theme.dim()),
+        Span::raw(bar(&union.iter().map(|u| (u[0], u[1])).collect::<Vec<_>>(), Some(here.lambda))),
+    ])];
+    let comp = &s.components.list[m.component];
+    let rows = area.height.saturating_sub(3) as usize;
+    let pos = comp.intervals.iter().position(|&i| i == cur_interval).unwrap_or(0);
+    let start = pos.saturating_sub(rows.saturating_sub(1) / 2).min(comp.intervals.len().saturating_sub(rows));
+    for &i in comp.intervals.iter().skip(start).take(rows) {
+        let iv = &s.space.intervals[i];
+        let current = i == cur_interval;
+        let mut ty = iv.ty.to_string();
+        if ty.chars().count() > label_w {
+            ty = format!(
+                "…{}",
+                ty.chars().rev().take(label_w - 1).collect::<Vec<_>>().into_iter().rev().collect::<String>()
+            );
+        }
+        let style = if current { theme.highlight() } else { theme.text() };
+        lines.push(Line::from(vec![
+            Span::styled(format!("{ty:<label_w$} "), style),
+            Span::styled(bar(&[(iv.lower.lambda, iv.upper.lambda)], current.then_some(here.lambda)), style),
+        ]));
+    }
+    let title = Line::from(vec![
+        Span::styled(" Cayley space ", theme.title()),
+        Span::styled(
+            format!("λ from {} to {} · {} oriented intervals ", fmt_num(lo), fmt_num(hi), s.space.intervals.len()),
+            theme.dim(),
+        ),
+    ]);
+    frame.render_widget(Paragraph::new(lines).block(Block::bordered().title(title)), area);
+}
+
+fn draw_status(frame: &mut Frame, app: &App, area: Rect, theme: Theme) {
+    let line = if let Some(input) = &app.input {
+        Line::from(vec![
+            Span::styled("go to (λ or TYPE@λ): ", theme.key()),
+            Span::raw(format!("{input}▏")),
+            Span::styled("  Enter go · Esc cancel", theme.dim()),
+        ])
+    } else if let Some(msg) = &app.message {
+        Line::styled(msg.clone(), theme.highlight())
+    } else if let Some(m) = app.model() {
+        let marks: Vec<String> = m
+            .marks
+            .iter()
+            .zip(["A", "B"])
+            .filter_map(|(mk, n)| mk.as_ref().map(|mk| format!("{n} {}@{}", mk.at.ty, fmt_num(mk.at.lambda))))
+            .collect();
+        let traced: Vec<&str> =
+            (0..m.traced.len()).filter(|&j| m.traced[j]).map(|j| m.analysis.linkage.names[j].as_str()).collect();
+        Line::styled(
+            format!(
+                "joint {} · traces {} [{}] {}",
+                m.analysis.linkage.names[m.selected_joint],
+                if m.traces_on { "on" } else { "off" },
+                traced.join(","),
+                marks.join(" · ")
+            ),
+            theme.dim(),
+        )
+    } else {
+        Line::raw("")
+    };
+    frame.render_widget(Paragraph::new(line), area);
+}
+
+fn draw_keys(frame: &mut Frame, _app: &App, area: Rect, theme: Theme) {
+    let mut spans = Vec::new();
+    let mut used = 0usize;
+    // Help and quit first, so they show however narrow the terminal.
+    let first =
+        |b: &&super::keymap::Binding| !matches!(b.action, super::keymap::Action::Help | super::keymap::Action::Quit);
+    let mut bar: Vec<&super::keymap::Binding> = BINDINGS.iter().filter(|b| !b.bar.is_empty()).collect();
+    bar.sort_by_key(first);
+    for b in bar {
+        let short = b.bar;
+        let w = b.label.chars().count() + short.chars().count() + 3;
+        if used + w > area.width as usize {
+            break;
+        }
+        used += w;
+        spans.push(Span::styled(format!(" {}", b.label), theme.key()));
+        spans.push(Span::raw(format!(" {short} ")));
+    }
+    frame.render_widget(Paragraph::new(Line::from(spans)), area);
+}
+
+fn draw_help(frame: &mut Frame, area: Rect, theme: Theme) {
+    // One column when it fits, else two side by side.
+    let rows_needed = BINDINGS.len() as u16 + 3;
+    let columns: usize = if rows_needed <= area.height.saturating_sub(2) { 1 } else { 2 };
+    let per_column = BINDINGS.len().div_ceil(columns);
+    let w = if columns == 1 { 64 } else { 118 }.min(area.width.saturating_sub(2));
+    let h = (per_column as u16 + 3).min(area.height.saturating_sub(2));
+    let rect = Rect { x: area.x + (area.width - w) / 2, y: area.y + (area.height - h) / 2, width: w, height: h };
+    let col_w = (w.saturating_sub(2) as usize) / columns;
+    let cell = |b: &super::keymap::Binding| -> Vec<Span<'static>> {
+        let help: String = b.help.chars().take(col_w.saturating_sub(10)).collect();
+        let pad = col_w.saturating_sub(9 + help.chars().count());
+        vec![Span::styled(format!(" {:<8}", b.label), theme.key()), Span::raw(help), Span::raw(" ".repeat(pad))]
+    };
+    let mut lines: Vec<Line> = (0..per_column)
+        .map(|r| {
+            let mut spans = Vec::new();
+            for c in 0..columns {
+                if let Some(b) = BINDINGS.get(c * per_column + r) {
+                    spans.extend(cell(b));
+                }
+            }
+            Line::from(spans)
+        })
+        .collect();
+    lines.push(Line::styled(" Esc or ? closes this help · every key works over SSH, no mouse needed", theme.dim()));
+    frame.render_widget(Clear, rect);
+    frame.render_widget(
+        Paragraph::new(lines).block(Block::bordered().title(Span::styled(" keys ", theme.title()))),
+        rect,
+    );
+}
