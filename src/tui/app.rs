@@ -110,7 +110,7 @@ impl App {
     /// Take the finished analysis.
     pub fn loaded(&mut self, analysis: Result<Analysis, String>) {
         let scene = match &self.screen {
-            Screen::Loading { scene } => scene.clone(),
+            Screen::Loading { scene, .. } => scene.clone(),
             _ => String::new(),
         };
         self.screen = match analysis {

@@ -73,6 +73,8 @@ fn event_loop(
         } else if app.animating() {
             app.tick();
             dirty = true;
+        } else if waiting {
+            dirty = true; // the loading screen shows the elapsed time
         }
     }
     Ok(())

@@ -1,0 +1,325 @@
+//! Issue 5: the terminal UI. State tests drive the app with key presses and
+//! no terminal; snapshots render whole screens on a TestBackend; one test
+//! runs the real binary in a pseudo-terminal.
+
+use caymos::analysis::analyse;
+use caymos::bundled;
+use caymos::tui::app::{App, Motion, View};
+use caymos::tui::handle_key;
+use caymos::tui::theme::Theme;
+use caymos::tui::view;
+use proptest::prelude::*;
+use ratatui::Terminal;
+use ratatui::backend::TestBackend;
+use ratatui::crossterm::event::{KeyCode, KeyEvent, KeyModifiers};
+
+fn app(scene: &str) -> App {
+    App::ready(analyse(bundled::load(scene).unwrap(), None).unwrap())
+}
+
+fn press(app: &mut App, keys: &str) {
+    for c in keys.chars() {
+        let code = match c {
+            '→' => KeyCode::Right,
+            '←' => KeyCode::Left,
+            '⏎' => KeyCode::Enter,
+            '⎋' => KeyCode::Esc,
+            c => KeyCode::Char(c),
+        };
+        handle_key(app, KeyEvent::new(code, KeyModifiers::NONE));
+    }
+}
+
+fn lambda(app: &App) -> f64 {
+    app.model().unwrap().lambda
+}
+
+fn ty(app: &App) -> String {
+    app.model().unwrap().current().ty.to_string()
+}
+
+#[test]
+fn starts_on_the_drawn_realization() {
+    let a = app("jansen");
+    let m = a.model().unwrap();
+    assert_eq!(Some(m.component), m.solved.drawn_component);
+    assert_eq!(m.lambda, m.solved.drawn.lambda);
+    assert_eq!(ty(&a), m.solved.drawn.ty.to_string());
+    assert!(!a.help && !a.quit);
+}
+
+#[test]
+fn endpoint_jumps_turn_the_jansen_crank_flipping_one_bit_at_each_end() {
+    let mut a = app("jansen");
+    let op = (38.0f64 * 38.0 + 7.8 * 7.8).sqrt();
+    let t0 = ty(&a);
+    press(&mut a, "]");
+    assert!((lambda(&a) - (op + 15.0)).abs() < 1e-9);
+    assert_eq!(a.model().unwrap().flat_here(), &[0]);
+    assert_eq!(ty(&a), t0, "the type changes only after the endpoint");
+    press(&mut a, "]");
+    assert!((lambda(&a) - (op - 15.0)).abs() < 1e-9);
+    let t1 = ty(&a);
+    assert_ne!(t1, t0);
+    assert_eq!(
+        t1.chars().skip(1).collect::<String>(),
+        t0.chars().skip(1).collect::<String>(),
+        "only the crank bit flips"
+    );
+    press(&mut a, "]");
+    assert_eq!(ty(&a), t0);
+    press(&mut a, "[[");
+    assert!((lambda(&a) - (op + 15.0)).abs() < 1e-9);
+}
+
+#[test]
+fn small_steps_move_no_joint_more_than_the_step() {
+    let mut a = app("limacon");
+    let step = a.model().unwrap().step;
+    for _ in 0..200 {
+        let before = a.model().unwrap().positions.clone();
+        press(&mut a, "→");
+        let after = &a.model().unwrap().positions;
+        let moved = before.iter().zip(after).map(|(p, q)| (p[0] - q[0]).hypot(p[1] - q[1])).fold(0.0, f64::max);
+        assert!(moved <= step * (1.0 + 1e-9) + 1e-9, "{moved} > {step}");
+    }
+    let l = lambda(&a);
+    press(&mut a, "←");
+    assert_ne!(lambda(&a), l);
+}
+
+#[test]
+fn components_go_to_marks_paths_views_help_and_quit() {
+    let mut a = app("jansen");
+    let k0 = a.model().unwrap().component;
+    press(&mut a, "n");
+    assert_eq!(a.model().unwrap().component, (k0 + 1) % 6);
+    press(&mut a, "pp");
+    assert_eq!(a.model().unwrap().component, (k0 + 5) % 6);
+    // Go to a realization, then a plain λ in the current motion.
+    press(&mut a, "g-+--@30⏎");
+    assert_eq!((ty(&a).as_str(), lambda(&a)), ("-+--", 30.0));
+    press(&mut a, "g40⏎");
+    assert_eq!(lambda(&a), 40.0);
+    // A realization that does not exist is a message, not a crash.
+    press(&mut a, "g--+-@24⏎");
+    assert!(a.message.as_deref().unwrap_or("").contains("not realizable"), "{:?}", a.message);
+    press(&mut a, "gnonsense⏎");
+    assert!(a.message.is_some());
+    // Marks in one component: two paths; follow one, then go back.
+    press(&mut a, "0a]]b");
+    let m = a.model().unwrap();
+    let p = m.path.as_ref().expect("path computed");
+    assert!(p.same_component);
+    assert!(a.message.as_deref().unwrap().contains("two paths"));
+    press(&mut a, "1");
+    assert_eq!(a.model().unwrap().motion, Motion::Path { arc: 0 });
+    for _ in 0..400 {
+        press(&mut a, "L");
+    }
+    assert!(a.message.as_deref().unwrap_or("").contains("end of the path"));
+    press(&mut a, "⎋");
+    assert!(matches!(a.model().unwrap().motion, Motion::Component(_)));
+    // Marks in different components: the closest pair.
+    press(&mut a, "ca0nb");
+    let m = a.model().unwrap();
+    assert!(!m.path.as_ref().unwrap().same_component);
+    assert!(a.message.as_deref().unwrap().contains("closest pair"));
+    // Views, traces, help, quit.
+    press(&mut a, "v");
+    assert_eq!(a.model().unwrap().view, View::CayleyCurve);
+    press(&mut a, "rReEx");
+    press(&mut a, "t");
+    assert!(!a.model().unwrap().traces_on);
+    press(&mut a, "?");
+    assert!(a.help);
+    press(&mut a, "⎋");
+    assert!(!a.help);
+    press(&mut a, " ");
+    assert!(a.animating());
+    let l = lambda(&a);
+    a.tick();
+    assert_ne!(lambda(&a), l);
+    press(&mut a, "q");
+    assert!(a.quit);
+}
+
+#[test]
+fn a_scene_outside_the_class_is_shown_not_crashed_on() {
+    let mut a = app("fig1c");
+    assert!(a.model().is_none());
+    press(&mut a, "]→ng1⏎abv?⎋");
+    let mut t = Terminal::new(TestBackend::new(80, 24)).unwrap();
+    t.draw(|f| view::draw(f, &mut a, Theme { color: false })).unwrap();
+    let screen = format!("{}", t.backend());
+    assert!(screen.contains("rigid"), "{screen}");
+    press(&mut a, "q");
+    assert!(a.quit);
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 24, ..ProptestConfig::default() })]
+
+    /// Nothing a user types crashes the UI, drawing included.
+    #[test]
+    fn no_key_sequence_panics(keys in proptest::collection::vec(prop::sample::select(
+        "→←LH][ nNpgabc12\u{238b}tjJvrReExq+-0d?@.,59⏎".chars().collect::<Vec<_>>()), 1..60), scene in prop::sample::select(vec!["jansen", "peaucellier", "stephenson"])) {
+        let mut a = app(scene);
+        let mut t = Terminal::new(TestBackend::new(80, 24)).unwrap();
+        for c in keys {
+            let s = c.to_string();
+            press(&mut a, &s);
+            a.tick();
+            t.draw(|f| view::draw(f, &mut a, Theme { color: true })).unwrap();
+        }
+    }
+}
+
+fn render(a: &mut App, w: u16, h: u16, theme: Theme) -> Terminal<TestBackend> {
+    let mut t = Terminal::new(TestBackend::new(w, h)).unwrap();
+    t.draw(|f| view::draw(f, a, theme)).unwrap();
+    t
+}
+
+#[test]
+fn snapshot_linkage_view_80x24() {
+    let mut a = app("jansen");
+    insta::assert_snapshot!("jansen_linkage_80x24", render(&mut a, 80, 24, Theme { color: true }).backend());
+}
+
+#[test]
+fn snapshot_linkage_view_large_after_steps() {
+    let mut a = app("limacon");
+    press(&mut a, "]]LLL");
+    insta::assert_snapshot!("limacon_linkage_160x48", render(&mut a, 160, 48, Theme { color: true }).backend());
+}
+
+#[test]
+fn snapshot_cayley_curve_view() {
+    let mut a = app("limacon");
+    press(&mut a, "vrr");
+    insta::assert_snapshot!("limacon_curve_80x24", render(&mut a, 80, 24, Theme { color: true }).backend());
+}
+
+#[test]
+fn snapshot_help_overlay() {
+    let mut a = app("jansen");
+    press(&mut a, "?");
+    insta::assert_snapshot!("help_80x24", render(&mut a, 80, 24, Theme { color: true }).backend());
+    insta::assert_snapshot!("help_160x48", render(&mut a, 160, 48, Theme { color: true }).backend());
+}
+
+#[test]
+fn snapshot_too_small() {
+    let mut a = app("jansen");
+    insta::assert_snapshot!("too_small_50x12", render(&mut a, 50, 12, Theme { color: true }).backend());
+}
+
+#[test]
+fn monochrome_theme_uses_no_colour_and_keeps_emphasis() {
+    let mut a = app("jansen");
+    press(&mut a, "]");
+    let t = render(&mut a, 80, 24, Theme { color: false });
+    let buf = t.backend().buffer();
+    let mut emphasised = 0;
+    for cell in buf.content() {
+        assert_eq!(cell.fg, ratatui::style::Color::Reset, "colour in the monochrome theme at {:?}", cell.symbol());
+        assert_eq!(cell.bg, ratatui::style::Color::Reset);
+        if !cell.modifier.is_empty() {
+            emphasised += 1;
+        }
+    }
+    assert!(emphasised > 10, "emphasis by modifiers must remain");
+    insta::assert_snapshot!("jansen_monochrome_80x24", t.backend());
+}
+
+/// The real binary in a pseudo-terminal: a full crank turn, then quit.
+#[test]
+fn end_to_end_in_a_pseudo_terminal() {
+    use portable_pty::{CommandBuilder, PtySize, native_pty_system};
+    use std::io::{Read, Write};
+    use std::sync::mpsc;
+    use std::time::{Duration, Instant};
+
+    let pair = native_pty_system().openpty(PtySize { rows: 24, cols: 80, pixel_width: 0, pixel_height: 0 }).unwrap();
+    let mut cmd = CommandBuilder::new(env!("CARGO_BIN_EXE_caymos"));
+    cmd.arg("jansen");
+    cmd.env("NO_COLOR", "1");
+    cmd.env("TERM", "xterm-256color");
+    let mut child = pair.slave.spawn_command(cmd).unwrap();
+    drop(pair.slave);
+    let mut reader = pair.master.try_clone_reader().unwrap();
+    let mut writer = pair.master.take_writer().unwrap();
+    let (tx, rx) = mpsc::channel::<Vec<u8>>();
+    std::thread::spawn(move || {
+        let mut buf = [0u8; 4096];
+        while let Ok(n) = reader.read(&mut buf) {
+            if n == 0 || tx.send(buf[..n].to_vec()).is_err() {
+                break;
+            }
+        }
+    });
+    let mut parser = vt100::Parser::new(24, 80, 0);
+    // Wait until the screen shows `want` (and, if given, a λ different from `not`).
+    let mut wait_for = |parser: &mut vt100::Parser, pred: &dyn Fn(&str) -> bool| -> String {
+        let deadline = Instant::now() + Duration::from_secs(20);
+        loop {
+            while let Ok(bytes) = rx.try_recv() {
+                parser.process(&bytes);
+            }
+            let screen = parser.screen().contents();
+            if pred(&screen) {
+                return screen;
+            }
+            assert!(Instant::now() < deadline, "timed out; screen:\n{screen}");
+            std::thread::sleep(Duration::from_millis(20));
+        }
+    };
+    let readout = |screen: &str| -> (String, String) {
+        let field = |key: &str| {
+            screen
+                .lines()
+                .find_map(|l| {
+                    l.split('│')
+                        .find(|c| c.trim_start().starts_with(key))
+                        .map(|c| c.trim()[key.len()..].trim().to_string())
+                })
+                .unwrap_or_default()
+        };
+        (field("λ"), field("type"))
+    };
+    let first = wait_for(&mut parser, &|s| s.contains("realization") && s.contains("type"));
+    let (l0, t0) = readout(&first);
+    assert!(l0.starts_with("50.02"), "drawn λ: {l0:?}");
+    let mut seen = vec![(l0, t0.clone())];
+    for _ in 0..4 {
+        writer.write_all(b"]").unwrap();
+        writer.flush().unwrap();
+        let last = seen.last().unwrap().clone();
+        let screen = wait_for(&mut parser, &|s| readout(s) != last);
+        seen.push(readout(&screen));
+    }
+    let lambdas: Vec<&str> = seen.iter().map(|(l, _)| l.as_str()).collect();
+    assert_eq!(&lambdas[1..], ["53.792267", "23.792267", "53.792267", "23.792267"], "{seen:?}");
+    let types: Vec<&str> = seen.iter().map(|(_, t)| t.as_str()).collect();
+    assert_eq!(types[1], t0, "the type holds up to the endpoint");
+    assert_ne!(types[2], types[1], "and flips after it");
+    assert_eq!(types[3], types[1]);
+    assert_eq!(types[4], types[2], "a full crank turn changes the type twice");
+    writer.write_all(b"q").unwrap();
+    writer.flush().unwrap();
+    let deadline = Instant::now() + Duration::from_secs(10);
+    let status = loop {
+        if let Some(status) = child.try_wait().unwrap() {
+            break status;
+        }
+        assert!(Instant::now() < deadline, "did not exit after q");
+        std::thread::sleep(Duration::from_millis(20));
+    };
+    assert!(status.success(), "exit status {status:?}");
+    // The alternate screen was left (the terminal restored).
+    while let Ok(bytes) = rx.recv_timeout(Duration::from_millis(200)) {
+        parser.process(&bytes);
+    }
+    assert!(!parser.screen().alternate_screen(), "terminal left in the alternate screen");
+}
