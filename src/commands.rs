@@ -142,7 +142,8 @@ pub fn path(a: &Analysis, s: &Solved, from: &str, to: &str, step: f64) -> Result
             "the component is not a closed cycle here (a non-generic branch point); paths are not defined".into()
         );
     }
-    let both = arcs(&s.space, comp, (ia, ra.lambda), (ib, rb.lambda));
+    let both =
+        arcs(&s.space, comp, (ia, ra.lambda), (ib, rb.lambda)).ok_or("both realizations must lie in the component")?;
     let mut paths: Vec<PathOut> = both
         .into_iter()
         .zip(["along", "against"])
@@ -226,7 +227,8 @@ pub fn trace_segments(
         if c != s.components.of_interval[ib] {
             return Err("no path: the two realizations lie in different components (see `caymos path`)".into());
         }
-        let both = arcs(&s.space, &s.components.list[c], (ia, ra.lambda), (ib, rb.lambda));
+        let both = arcs(&s.space, &s.components.list[c], (ia, ra.lambda), (ib, rb.lambda))
+            .ok_or("both realizations must lie in the component")?;
         let pick = match arc {
             Some(k @ (1 | 2)) => k - 1,
             Some(_) => return Err("--arc is 1 or 2".into()),

@@ -248,17 +248,17 @@ pub fn component_segments(space: &CayleySpace<f64>, c: &Component) -> Vec<Segmen
 
 /// The two arcs of a closed component between realizations in intervals
 /// `ia` (at `la`) and `ib` (at `lb`): first following the component's
-/// direction, then against it.
+/// direction, then against it. `None` when either interval is not in the component.
 pub fn arcs(
     space: &CayleySpace<f64>,
     c: &Component,
     (ia, la): (usize, f64),
     (ib, lb): (usize, f64),
-) -> [Vec<Segment>; 2] {
+) -> Option<[Vec<Segment>; 2]> {
     let segs = component_segments(space, c);
     let m = segs.len();
-    let pos = |i: usize| c.intervals.iter().position(|&j| j == i).expect("interval in component");
-    let (pa, pb) = (pos(ia), pos(ib));
+    let pos = |i: usize| c.intervals.iter().position(|&j| j == i);
+    let (pa, pb) = (pos(ia)?, pos(ib)?);
     let ahead = |s: &Segment, x: f64, y: f64| if s.to >= s.from { y >= x } else { y <= x };
     // Forward: from (pa, la) along the traversal to (pb, lb).
     let mut fwd = Vec::new();
@@ -295,7 +295,7 @@ pub fn arcs(
         }
         back.push(finish(rev(&segs[pb])));
     }
-    [fwd, back]
+    Some([fwd, back])
 }
 
 /// One realization along a walk.

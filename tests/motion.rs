@@ -120,7 +120,7 @@ proptest! {
         let arc = Arc::new(&s.space, comp);
         let (ra, rb) = (arc.at(arc.total * 0.17), arc.at(arc.total * 0.71));
         let loc = |r: &Realization| caymos::motion::locate(&s.space, r, a.linkage.scale).unwrap();
-        let both = arcs(&s.space, comp, (loc(&ra), ra.lambda), (loc(&rb), rb.lambda));
+        let both = arcs(&s.space, comp, (loc(&ra), ra.lambda), (loc(&rb), rb.lambda)).unwrap();
         for segs in &both {
             let first = segs.first().unwrap();
             let last = segs.last().unwrap();
@@ -217,7 +217,7 @@ fn limacon_has_three_components_and_paths_of_four_and_six_intervals() {
     let mut found = false;
     for ia in holding(227.96) {
         for ib in holding(246.96) {
-            let both = arcs(&s.space, comp, (ia, 227.96), (ib, 246.96));
+            let both = arcs(&s.space, comp, (ia, 227.96), (ib, 246.96)).unwrap();
             let mut counts = [both[0].len(), both[1].len()];
             counts.sort();
             if counts == [4, 6] {

@@ -158,7 +158,7 @@ fn a_scene_outside_the_class_is_shown_not_crashed_on() {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 24, ..ProptestConfig::default() })]
+    #![proptest_config(ProptestConfig { cases: 64, ..ProptestConfig::default() })]
 
     /// Nothing a user types crashes the UI, drawing included.
     #[test]
@@ -261,7 +261,7 @@ fn end_to_end_in_a_pseudo_terminal() {
     });
     let mut parser = vt100::Parser::new(24, 80, 0);
     // Wait until the screen shows `want` (and, if given, a λ different from `not`).
-    let mut wait_for = |parser: &mut vt100::Parser, pred: &dyn Fn(&str) -> bool| -> String {
+    let wait_for = |parser: &mut vt100::Parser, pred: &dyn Fn(&str) -> bool| -> String {
         let deadline = Instant::now() + Duration::from_secs(20);
         loop {
             while let Ok(bytes) = rx.try_recv() {

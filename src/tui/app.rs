@@ -386,7 +386,8 @@ impl Model {
             }
             Action::MarkA | Action::MarkB => {
                 let slot = usize::from(action == Action::MarkB);
-                self.marks[slot] = Some(Mark { at: self.current(), component: self.component });
+                let component = self.solved.components.of_interval[self.segments[self.seg].interval];
+                self.marks[slot] = Some(Mark { at: self.current(), component });
                 self.update_path()?;
             }
             Action::ClearMarks => {
@@ -405,6 +406,7 @@ impl Model {
                 };
                 self.segments = arcs[arc].clone();
                 self.motion = Motion::Path { arc };
+                self.component = self.solved.components.of_interval[self.segments[0].interval];
                 self.seg = 0;
                 self.lambda = self.segments[0].from;
                 self.refresh();
@@ -485,8 +487,8 @@ impl Model {
         if report.same_component {
             let ia = locate(&s.space, &a.at, an.linkage.scale).ok_or("A is no longer located")?;
             let ib = locate(&s.space, &b.at, an.linkage.scale).ok_or("B is no longer located")?;
-            let comp = &s.components.list[a.component];
-            self.path_arcs = Some(arcs(&s.space, comp, (ia, a.at.lambda), (ib, b.at.lambda)));
+            let comp = &s.components.list[s.components.of_interval[ia]];
+            self.path_arcs = arcs(&s.space, comp, (ia, a.at.lambda), (ib, b.at.lambda));
         }
         self.path = Some(report);
         Ok(())
