@@ -90,12 +90,14 @@ pub enum Note {
 }
 
 /// How endpoints were found.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Method {
     /// Closed form for LCC steps (numeric only where the four-cycle test failed).
     Exact,
-    /// The numeric root search for every step, with this many samples per piece.
-    Numeric { samples: usize },
+    /// The numeric root search for every step, with this many samples per
+    /// piece; roots are bisected until their bracket is below `tol` × scale
+    /// (0: to full precision).
+    Numeric { samples: usize, tol: f64 },
 }
 
 #[derive(Clone, Debug)]
@@ -152,6 +154,8 @@ struct Sweep<'a, T: Real> {
     /// Per step: closed-form candidates for [stretched, folded], or `None` to search numerically.
     exact: Vec<Option<[Vec<T>; 2]>>,
     samples: usize,
+    /// Numeric roots are bisected down to a bracket this wide (scene units).
+    root_tol: T,
     next_id: usize,
     notes: Vec<Note>,
     out: Vec<OrientedInterval<T>>,
@@ -180,10 +184,14 @@ pub fn cayley_space<T: Real>(
         })
         .collect();
     let samples = match method {
-        Method::Numeric { samples } => samples.max(4),
+        Method::Numeric { samples, .. } => samples.max(4),
         Method::Exact => 32,
     };
-    let mut sweep = Sweep { con, jet, exact, samples, next_id: 0, notes: Vec::new(), out: Vec::new() };
+    let root_tol = match method {
+        Method::Numeric { tol, .. } => T::from_f64(tol.max(0.0) * con.scale),
+        Method::Exact => T::zero(),
+    };
+    let mut sweep = Sweep { con, jet, exact, samples, root_tol, next_id: 0, notes: Vec::new(), out: Vec::new() };
     // Start from (0, sentinel): every root of the first step lies below the sentinel.
     let top = (0..n)
         .filter(|&k| con.on_base(k))
@@ -288,7 +296,10 @@ impl<T: Real> Sweep<'_, T> {
                 };
                 let Some(d) = self.distance(k, bits, lambda) else { continue };
                 let g = d - Jet::constant(t);
-                let accepted = g.v.abs() <= T::from_f64(tolerance::ROOT_VALUE) * scale
+                // Closed-form candidates must prove they are roots of this prefix;
+                // numeric ones are bracketed sign changes, roots by construction.
+                let accepted = self.exact[k].is_none()
+                    || g.v.abs() <= T::from_f64(tolerance::ROOT_VALUE) * scale
                     || (g.v / g.d).abs() <= T::from_f64(tolerance::ROOT_STEP) * scale;
                 if !accepted || !(g.d.to_f64().is_finite() || at != At::Inside) {
                     continue;
@@ -473,13 +484,13 @@ impl<T: Real> Sweep<'_, T> {
             // Next to a piece end d_k behaves like a square root: monotone, so
             // a sign change of g is all there is to find.
             if value_change {
-                roots.push(bisect(a, b, |x| eval(self, x).map(|g| sign(g.v))));
+                roots.push(bisect(a, b, self.root_tol, |x| eval(self, x).map(|g| sign(g.v))));
             }
             return;
         }
         if sign(ga.s) * sign(gb.s) < 0 {
             // An inflection inside: split there, so each half has at most one extremum.
-            let c = bisect(a, b, |x| eval(self, x).map(|g| sign(g.s)));
+            let c = bisect(a, b, T::zero(), |x| eval(self, x).map(|g| sign(g.s)));
             // An inflection at an end (where a previous split put it) is that end's.
             let margin = (b - a) * T::from_f64(1e-6);
             if c - a > margin && b - c > margin {
@@ -497,11 +508,11 @@ impl<T: Real> Sweep<'_, T> {
             }
         }
         if value_change {
-            roots.push(bisect(a, b, |x| eval(self, x).map(|g| sign(g.v))));
+            roots.push(bisect(a, b, self.root_tol, |x| eval(self, x).map(|g| sign(g.v))));
             return;
         }
         if sign(ga.d) * sign(gb.d) < 0 {
-            let e = bisect(a, b, |x| eval(self, x).map(|g| sign(g.d)));
+            let e = bisect(a, b, T::zero(), |x| eval(self, x).map(|g| sign(g.d)));
             let Some(ge) = eval(self, e) else { return };
             let tol = T::from_f64(tolerance::ROOT_VALUE * self.con.scale);
             if ge.v.abs() <= tol {
@@ -514,17 +525,21 @@ impl<T: Real> Sweep<'_, T> {
                     });
                 }
             } else if sign(ge.v) * sign(ga.v) < 0 {
-                roots.push(bisect(a, e, |x| eval(self, x).map(|g| sign(g.v))));
-                roots.push(bisect(e, b, |x| eval(self, x).map(|g| sign(g.v))));
+                roots.push(bisect(a, e, self.root_tol, |x| eval(self, x).map(|g| sign(g.v))));
+                roots.push(bisect(e, b, self.root_tol, |x| eval(self, x).map(|g| sign(g.v))));
             }
         }
     }
 }
 
-/// Bisection on a sign function with different signs at `a` and `b`, to full precision.
-fn bisect<T: Real>(mut a: T, mut b: T, f: impl Fn(T) -> Option<i8>) -> T {
+/// Bisection on a sign function with different signs at `a` and `b`, until
+/// the bracket is no wider than `stop` (zero: to full precision).
+fn bisect<T: Real>(mut a: T, mut b: T, stop: T, f: impl Fn(T) -> Option<i8>) -> T {
     let sa = f(a).unwrap_or(0);
     for _ in 0..200 {
+        if b - a <= stop {
+            break;
+        }
         let m = (a + b) / T::from_f64(2.0);
         if !(m > a && m < b) {
             break;

@@ -12,6 +12,7 @@
 //! assert_eq!(solved.space.intervals.len(), 4);
 //! ```
 pub mod analysis;
+pub mod bench;
 pub mod builder;
 pub mod bundled;
 pub mod cayley_space;

@@ -33,6 +33,20 @@ enum Format {
 }
 
 #[derive(Subcommand, Debug)]
+enum Family {
+    /// A chain of four-cycles, each step carried by the one before.
+    Chain {
+        #[arg(long)]
+        steps: usize,
+    },
+    /// Jansen legs sharing one crank.
+    Strandbeest {
+        #[arg(long)]
+        legs: usize,
+    },
+}
+
+#[derive(Subcommand, Debug)]
 enum Command {
     /// Explore a scene in the terminal UI (the default command).
     Tui {
@@ -103,6 +117,23 @@ enum Command {
         components: String,
         #[arg(long, value_enum, default_value = "text")]
         format: Format,
+    },
+    /// Speed against error: every method's time and error against the double-double reference.
+    Bench {
+        /// Scene files, bundled names or hard cases (`hard:sliver`, …); default: all bundled scenes and hard cases.
+        scenes: Vec<String>,
+        #[arg(long, value_enum, default_value = "text")]
+        format: Format,
+        /// Timed repetitions after a warm-up (the median is reported).
+        #[arg(long, default_value_t = 5)]
+        repeat: usize,
+    },
+    /// Write a generated scene (TOML) for scaling experiments.
+    Generate {
+        #[command(subcommand)]
+        family: Family,
+        #[arg(long, global = true)]
+        output: Option<std::path::PathBuf>,
     },
     /// SVG of the drawn linkage with the traces of its joints over a component.
     Svg {
@@ -216,6 +247,44 @@ fn run(command: Command) -> Result<u8, Failure> {
                     ));
                 }
             }
+            Ok(0)
+        }
+        Command::Bench { scenes, format, repeat } => {
+            let mut inputs: Vec<caymos::scene::Scene> = Vec::new();
+            if scenes.is_empty() {
+                for b in bundled::BUNDLED {
+                    inputs.push(bundled::load(b.name)?);
+                }
+                inputs.extend(caymos::generate::hard_cases());
+            } else {
+                for name in &scenes {
+                    match caymos::generate::hard_cases().into_iter().find(|h| &h.name == name) {
+                        Some(h) => inputs.push(h),
+                        None => inputs.push(bundled::resolve(Some(name))?),
+                    }
+                }
+            }
+            let mut report = caymos::bench::BenchReport { repeat, methods: Vec::new(), stepping: Vec::new() };
+            for scene in inputs {
+                let analysis = analyse(scene, None)?;
+                let Ok(solved) = analysis.outcome.clone() else { continue };
+                let (m, s) = caymos::bench::bench_scene(&analysis, &solved, repeat);
+                report.methods.extend(m);
+                report.stepping.extend(s);
+            }
+            match format {
+                Format::Json => emit(&format!("{}\n", serde_json::to_string_pretty(&report).expect("serializes"))),
+                Format::Text => emit(&report.to_text()),
+            }
+            Ok(0)
+        }
+        Command::Generate { family, output } => {
+            let scene = match family {
+                Family::Chain { steps } if steps >= 1 => caymos::generate::chain(steps),
+                Family::Strandbeest { legs } if legs >= 1 => caymos::generate::strandbeest(legs),
+                _ => return Err(arg_error("give a positive --steps or --legs".into())),
+            };
+            write_out(output, &caymos::generate::to_toml(&scene))?;
             Ok(0)
         }
         Command::Svg { scene, component, joints, step, output } => {

@@ -2,10 +2,9 @@
 //! the worked examples of THEORY.md §7, and a double-double reference.
 
 use caymos::analysis::{Solved, analyse, reference_accuracy};
-use caymos::builder::SceneBuilder;
 use caymos::bundled;
 use caymos::cayley_space::{Kind, Method, Note, cayley_space};
-use caymos::generate::random_linkage;
+use caymos::generate::{bd_distance, four_bar, four_bar_with_dyad, random_linkage, tangency};
 use caymos::linkage::Linkage;
 use caymos::real::Jet;
 use caymos::realize::{Construction, slack};
@@ -28,7 +27,7 @@ fn assert_matches_reference(l: &Linkage, s: &Solved) {
 /// The closed-form and numeric methods find the same intervals (two independent computations).
 fn assert_methods_agree(l: &Linkage, s: &Solved) {
     let jet = s.construction.convert::<Jet<f64>>();
-    let numeric = cayley_space(&s.construction, jet, &s.dec, &s.complexity, Method::Numeric { samples: 24 });
+    let numeric = cayley_space(&s.construction, jet, &s.dec, &s.complexity, Method::Numeric { samples: 24, tol: 0.0 });
     assert_eq!(numeric.intervals.len(), s.space.intervals.len(), "interval counts differ");
     for (n, e) in numeric.intervals.iter().zip(&s.space.intervals) {
         assert_eq!(n.ty, e.ty);
@@ -37,18 +36,6 @@ fn assert_methods_agree(l: &Linkage, s: &Solved) {
         assert_eq!(n.lower.events, e.lower.events);
         assert_eq!(n.upper.events, e.upper.events);
     }
-}
-
-fn four_bar(ab: f64, bc: f64, cd: f64, da: f64) -> Scene {
-    // A pose need not close: lengths are stated, the drawing only gives orientations.
-    let mut b = SceneBuilder::new("four-bar");
-    b.joint("A", [0.0, 0.0]);
-    b.joint("B", [0.2 * da, 0.9 * ab.min(da)]);
-    b.joint("C", [0.8 * da, 0.5 * ab.min(da)]);
-    b.joint("D", [da, 0.0]);
-    b.bar_len("A", "B", ab).bar_len("B", "C", bc).bar_len("C", "D", cd).bar_len("D", "A", da);
-    b.base("A", "C").ground(&["D", "A"]);
-    b.build()
 }
 
 proptest! {
@@ -160,34 +147,6 @@ fn limacon_matches_the_published_intervals() {
 
 // ---- The hard-case suite -------------------------------------------------
 
-/// A four-bar A-B-C-D on base A–C, plus E ◁ (B, D): E's base distance |BD|
-/// varies along the motion, so its endpoints come from the hinge chain.
-fn four_bar_with_dyad(lengths: [f64; 4], be: f64, de: f64) -> Scene {
-    let [ab, bc, cd, da] = lengths;
-    let mut b = SceneBuilder::new("four-bar-dyad");
-    b.joint("A", [0.0, 0.0]);
-    b.joint("B", [0.3, 2.0]);
-    b.joint("C", [3.0, 0.4]);
-    b.joint("D", [1.5, -1.8]);
-    b.joint("E", [2.4, 2.6]);
-    b.bar_len("A", "B", ab).bar_len("B", "C", bc).bar_len("C", "D", cd).bar_len("D", "A", da);
-    b.bar_len("B", "E", be).bar_len("D", "E", de);
-    b.base("A", "C");
-    b.build()
-}
-
-/// |BD| at λ for the given orientations of B and D, by plain geometry.
-fn bd_distance(lengths: [f64; 4], lambda: f64, b_plus: bool, d_plus: bool) -> f64 {
-    let [ab, bc, cd, da] = lengths;
-    let apex = |r1: f64, r2: f64, plus: bool| {
-        let x = (lambda * lambda + r1 * r1 - r2 * r2) / (2.0 * lambda);
-        let y = (r1 * r1 - x * x).max(0.0).sqrt();
-        [x, if plus { y } else { -y }]
-    };
-    let (pb, pd) = (apex(ab, bc, b_plus), apex(da, cd, d_plus));
-    (pb[0] - pd[0]).hypot(pb[1] - pd[1])
-}
-
 #[test]
 fn hard_case_interval_narrower_than_1e_minus_7() {
     // B ◁ (A, C) closes for λ ∈ [1, 7], D for λ ∈ [1.5, 5.5]. With B and D on
@@ -228,34 +187,10 @@ fn hard_case_endpoints_of_different_steps_closer_than_1e_minus_6() {
 
 #[test]
 fn hard_case_isolated_point_from_a_tangency() {
-    // v1 ◁ (a, b) with |a v1| = |b v1| = 5; triangles a-v1-p and b-v1-q hinge
-    // at v1 with |v1 p| = 3, |v1 q| = 4, so |pq| ≤ 7 with equality when p, v1,
-    // q line up. v2 ◁ (p, q) with |p v2| = 10, |q v2| = 3 needs |pq| ≥ 7: only
-    // that one λ. With the angles of the triangles at v1 of 30° (p from a) and
-    // 60° (q from b), the hinge angle a-v1-b is then 180° − 30° − 60°, λ = 10 sin 45°.
-    let (alpha, beta) = (30f64.to_radians(), 60f64.to_radians());
-    let ap = (25.0f64 + 9.0 - 30.0 * alpha.cos()).sqrt();
-    let bq = (25.0f64 + 16.0 - 40.0 * beta.cos()).sqrt();
-    let expected = 10.0 * ((std::f64::consts::PI - alpha - beta) / 2.0).sin();
-    // A pose near the tangency, with p and q on the sides that make it reachable.
-    let theta = 150f64.to_radians();
-    let lam = 10.0 * (theta / 2.0).sin();
-    let v1 = [lam / 2.0, 5.0 * (theta / 2.0).cos()];
-    let dir = |from: [f64; 2], to: [f64; 2]| (to[1] - from[1]).atan2(to[0] - from[0]);
-    let at = |angle: f64, r: f64| [v1[0] + r * angle.cos(), v1[1] + r * angle.sin()];
-    let p = at(dir(v1, [0.0, 0.0]) - alpha, 3.0);
-    let q = at(dir(v1, [lam, 0.0]) + beta, 4.0);
-    let mut b = SceneBuilder::new("tangency");
-    b.joint("a", [0.0, 0.0]);
-    b.joint("b", [lam, 0.0]);
-    b.joint("v1", v1);
-    b.joint("p", p);
-    b.joint("q", q);
-    b.joint("v2", [(p[0] + q[0]) / 2.0 + 0.5, (p[1] + q[1]) / 2.0 + 2.0]);
-    b.bar_len("a", "v1", 5.0).bar_len("b", "v1", 5.0).bar_len("v1", "p", 3.0).bar_len("a", "p", ap);
-    b.bar_len("v1", "q", 4.0).bar_len("b", "q", bq).bar_len("p", "v2", 10.0).bar_len("q", "v2", 3.0);
-    b.base("a", "b");
-    let (l, s) = solve(b.build());
+    // See `generate::tangency`: |pq| ≤ 7 with equality at one λ, where the
+    // hinge angle a-v1-b is 180° − 30° − 60°, so λ = 10 sin 45°.
+    let expected = 10.0 * ((std::f64::consts::PI - 30f64.to_radians() - 60f64.to_radians()) / 2.0).sin();
+    let (l, s) = solve(tangency());
     assert!(!s.space.intervals.is_empty(), "the isolated point must be kept");
     for i in &s.space.intervals {
         assert_eq!(i.lower.lambda, i.upper.lambda, "an isolated point has zero width");

@@ -1,11 +1,10 @@
 //! Issue 4: components, paths, stepping, traces, Cayley distance, closest pair.
 
 use caymos::analysis::{Analysis, Solved, analyse};
-use caymos::builder::SceneBuilder;
 use caymos::bundled;
 use caymos::commands;
 use caymos::distance::{Arc, cayley_vector, closest_pair, euclid, mirror_images_exist};
-use caymos::generate::random_linkage;
+use caymos::generate::{four_bar, random_linkage};
 use caymos::motion::{Realization, Stepper, arcs, component_segments};
 use caymos::realize::bar_residual;
 use caymos::scene::Scene;
@@ -15,17 +14,6 @@ fn solve(scene: Scene) -> (Analysis, Solved) {
     let a = analyse(scene, None).unwrap();
     let s = a.outcome.clone().unwrap_or_else(|o| panic!("{}", o.describe(&a.linkage)));
     (a, s)
-}
-
-fn four_bar(ab: f64, bc: f64, cd: f64, da: f64) -> Scene {
-    let mut b = SceneBuilder::new("four-bar");
-    b.joint("A", [0.0, 0.0]);
-    b.joint("B", [0.2 * da, 0.9 * ab.min(da)]);
-    b.joint("C", [0.8 * da, 0.5 * ab.min(da)]);
-    b.joint("D", [da, 0.0]);
-    b.bar_len("A", "B", ab).bar_len("B", "C", bc).bar_len("C", "D", cd).bar_len("D", "A", da);
-    b.base("A", "C").ground(&["D", "A"]);
-    b.build()
 }
 
 /// Structural invariants of the component list.

@@ -1,0 +1,311 @@
+//! `caymos bench`: speed against error, measured. Each method's median time
+//! (after a warm-up) and its error against the double-double reference run
+//! of the exact method: largest endpoint error, and intervals missed or
+//! spurious. Also the motion stepper at several step sizes: time per
+//! component against chord error (how far the straight line between two
+//! samples strays from the true motion) and bar-length residual.
+
+use std::time::Instant;
+
+use serde::Serialize;
+
+use crate::analysis::{Analysis, Solved};
+use crate::cayley_space::{Method, cayley_space};
+use crate::invert::Inverter;
+use crate::motion::{Stepper, component_segments, realization_at};
+use crate::real::{Dd, Jet, Real};
+use crate::realize::{Construction, RealizationType, bar_residual};
+use crate::report::{fmt_num, fmt_sci, write_table};
+
+/// One interval as (type, lower, upper), the common currency of the comparison.
+type Span = (RealizationType, f64, f64);
+
+#[derive(Debug, Clone, Serialize)]
+pub struct MethodRow {
+    pub scene: String,
+    pub method: String,
+    pub median_us: f64,
+    pub intervals: usize,
+    pub reference_intervals: usize,
+    /// Largest endpoint error of matched intervals, relative to the scene scale.
+    pub max_endpoint_error: f64,
+    pub missed: usize,
+    pub spurious: usize,
+}
+
+#[derive(Debug, Clone, Serialize)]
+pub struct StepRow {
+    pub scene: String,
+    /// Step bound as a fraction of the scene scale.
+    pub step: f64,
+    pub median_us: f64,
+    pub samples: usize,
+    /// Largest chord error relative to the scale.
+    pub max_chord_error: f64,
+    /// Largest bar-length residual relative to the scale.
+    pub max_bar_residual: f64,
+}
+
+#[derive(Debug, Clone, Serialize)]
+pub struct BenchReport {
+    pub repeat: usize,
+    pub methods: Vec<MethodRow>,
+    pub stepping: Vec<StepRow>,
+}
+
+/// Median wall time of `f` in microseconds over `repeat` runs after one warm-up.
+fn median_us<R>(repeat: usize, mut f: impl FnMut() -> R) -> (f64, R) {
+    let mut out = f();
+    let mut times = Vec::with_capacity(repeat);
+    for _ in 0..repeat.max(1) {
+        let t = Instant::now();
+        out = f();
+        times.push(t.elapsed().as_secs_f64() * 1e6);
+    }
+    times.sort_by(f64::total_cmp);
+    (times[times.len() / 2], out)
+}
+
+/// Match each reference interval with the method's interval of the same type
+/// that overlaps it with the smallest endpoint error.
+pub fn compare(method: &[Span], reference: &[Span], scale: f64) -> (f64, usize, usize) {
+    let slack = 1e-6 * scale;
+    let mut used = vec![false; method.len()];
+    let (mut worst, mut missed) = (0.0f64, 0usize);
+    for (ty, lo, hi) in reference {
+        let best = method
+            .iter()
+            .enumerate()
+            .filter(|(i, (t, a, b))| !used[*i] && t == ty && *a <= hi + slack && *b >= lo - slack)
+            .map(|(i, (_, a, b))| (i, (a - lo).abs().max((b - hi).abs())))
+            .min_by(|x, y| x.1.total_cmp(&y.1));
+        match best {
+            Some((i, e)) => {
+                used[i] = true;
+                worst = worst.max(e / scale);
+            }
+            None => missed += 1,
+        }
+    }
+    (worst, missed, used.iter().filter(|u| !**u).count())
+}
+
+fn spans<T: Real>(space: &crate::cayley_space::CayleySpace<T>) -> Vec<Span> {
+    space.intervals.iter().map(|i| (i.ty.clone(), i.lower.lambda.to_f64(), i.upper.lambda.to_f64())).collect()
+}
+
+/// The classic approach (CayMos, THEORY.md §6): candidate endpoints from the
+/// closed form, then each classified by realizing at the midpoints to its
+/// neighbours with a fixed absolute tolerance of 1e-4. Only for LCC scenes.
+pub fn classic_space(con: &Construction<f64>, s: &Solved) -> Option<Vec<Span>> {
+    if !s.complexity.low {
+        return None;
+    }
+    const ABSOLUTE_TOL: f64 = 1e-4;
+    let inv = Inverter { con, dec: &s.dec, cx: &s.complexity };
+    let mut cands: Vec<f64> = Vec::new();
+    for (k, st) in con.steps.iter().enumerate() {
+        cands.extend(inv.candidates(k, st.r1 + st.r2));
+        cands.extend(inv.candidates(k, (st.r1 - st.r2).abs()));
+    }
+    cands.sort_by(f64::total_cmp);
+    cands.dedup();
+    let n = con.steps.len();
+    if n > 16 {
+        return None;
+    }
+    let realizable = |l: f64, ty: &[bool]| con.realize_with_tolerance(l, ty, ABSOLUTE_TOL).is_ok();
+    let mut out = Vec::new();
+    for code in 0..(1usize << n) {
+        let bits: Vec<bool> = (0..n).map(|k| code & (1 << (n - 1 - k)) == 0).collect();
+        let mut start: Option<f64> = None;
+        for (i, &cur) in cands.iter().enumerate() {
+            let before = i.checked_sub(1).map(|j| cands[j]);
+            let after = cands.get(i + 1).copied();
+            let p = before.is_some_and(|b| realizable((b + cur) / 2.0, &bits));
+            let q = after.is_some_and(|a| realizable((cur + a) / 2.0, &bits));
+            match (p, q) {
+                (false, false) if realizable(cur, &bits) => out.push((RealizationType(bits.clone()), cur, cur)),
+                (true, false) => {
+                    if let Some(s0) = start.take() {
+                        out.push((RealizationType(bits.clone()), s0, cur));
+                    }
+                }
+                (false, true) => start = Some(cur),
+                _ => {}
+            }
+        }
+    }
+    Some(out)
+}
+
+/// Benchmark one analysed scene.
+pub fn bench_scene(a: &Analysis, s: &Solved, repeat: usize) -> (Vec<MethodRow>, Vec<StepRow>) {
+    let scale = a.linkage.scale;
+    let name = a.scene.name.clone();
+    let con = &s.construction;
+    let jet = con.convert::<Jet<f64>>();
+    let reference = {
+        let dd = Construction::<Dd>::new(&a.linkage, &s.dec).expect("shapes close in f64, so in dd");
+        let jd = Construction::<Jet<Dd>>::new(&a.linkage, &s.dec).expect("as above");
+        spans(&cayley_space(&dd, jd, &s.dec, &s.complexity, Method::Exact))
+    };
+    let mut rows = Vec::new();
+    let methods: [(String, Method); 4] = [
+        ("exact (closed form)".into(), Method::Exact),
+        ("numeric 32 samples, full precision".into(), Method::Numeric { samples: 32, tol: 0.0 }),
+        ("numeric 16 samples, tol 1e-8".into(), Method::Numeric { samples: 16, tol: 1e-8 }),
+        ("numeric 8 samples, tol 1e-4".into(), Method::Numeric { samples: 8, tol: 1e-4 }),
+    ];
+    for (label, method) in methods {
+        let (t, space) = median_us(repeat, || cayley_space(con, jet.clone(), &s.dec, &s.complexity, method));
+        let got = spans(&space);
+        let (err, missed, spurious) = compare(&got, &reference, scale);
+        rows.push(MethodRow {
+            scene: name.clone(),
+            method: label,
+            median_us: t,
+            intervals: got.len(),
+            reference_intervals: reference.len(),
+            max_endpoint_error: err,
+            missed,
+            spurious,
+        });
+    }
+    let (t, classic) = median_us(repeat, || classic_space(con, s));
+    if let Some(got) = classic {
+        let (err, missed, spurious) = compare(&got, &reference, scale);
+        rows.push(MethodRow {
+            scene: name.clone(),
+            method: "classic (midpoints, abs tol 1e-4)".into(),
+            median_us: t,
+            intervals: got.len(),
+            reference_intervals: reference.len(),
+            max_endpoint_error: err,
+            missed,
+            spurious,
+        });
+    }
+    let mut steps = Vec::new();
+    let k = s.drawn_component.unwrap_or(0);
+    if let Some(comp) = s.components.list.get(k) {
+        let segs = component_segments(&s.space, comp);
+        for frac in [0.1, 0.03, 0.01, 0.003] {
+            let bound = frac * scale;
+            let (t, samples) =
+                median_us(repeat, || Stepper::new(con, &a.linkage, segs.clone(), bound).collect::<Vec<_>>());
+            let mut chord: f64 = 0.0;
+            let mut residual: f64 = 0.0;
+            for w in samples.windows(2) {
+                residual = residual.max(bar_residual(&a.linkage, &w[1].positions));
+                if w[0].segment != w[1].segment {
+                    continue;
+                }
+                let mid = (w[0].lambda + w[1].lambda) / 2.0;
+                let seg = &segs[w[1].segment];
+                if let Some(truth) = realization_at(con, &a.linkage, seg, mid) {
+                    for ((p, q), t) in w[0].positions.iter().zip(&w[1].positions).zip(&truth) {
+                        chord = chord.max(((p[0] + q[0]) / 2.0 - t[0]).hypot((p[1] + q[1]) / 2.0 - t[1]));
+                    }
+                }
+            }
+            steps.push(StepRow {
+                scene: name.clone(),
+                step: frac,
+                median_us: t,
+                samples: samples.len(),
+                max_chord_error: chord / scale,
+                max_bar_residual: residual / scale,
+            });
+        }
+    }
+    (rows, steps)
+}
+
+impl BenchReport {
+    pub fn to_text(&self) -> String {
+        let mut o = String::new();
+        o.push_str(&format!(
+            "Cayley space: median of {} runs; errors against the double-double exact run, relative to scene scale\n",
+            self.repeat
+        ));
+        let rows: Vec<[String; 6]> = self
+            .methods
+            .iter()
+            .map(|r| {
+                [
+                    r.scene.clone(),
+                    r.method.clone(),
+                    fmt_num(r.median_us),
+                    fmt_sci(r.max_endpoint_error),
+                    format!("{}/{}", r.intervals, r.reference_intervals),
+                    format!("{} / {}", r.missed, r.spurious),
+                ]
+            })
+            .collect();
+        write_table(&mut o, &["scene", "method", "time µs", "max error", "intervals", "missed / spurious"], &rows);
+        o.push('\n');
+        o.push_str(&self.chart());
+        o.push_str("\nMotion stepper on the drawn realization's component (step as a fraction of the scale)\n");
+        let rows: Vec<[String; 6]> = self
+            .stepping
+            .iter()
+            .map(|r| {
+                [
+                    r.scene.clone(),
+                    fmt_num(r.step),
+                    fmt_num(r.median_us),
+                    r.samples.to_string(),
+                    fmt_sci(r.max_chord_error),
+                    fmt_sci(r.max_bar_residual),
+                ]
+            })
+            .collect();
+        write_table(&mut o, &["scene", "step", "time µs", "samples", "chord error", "bar residual"], &rows);
+        o
+    }
+
+    /// A log-log text chart of time (x) against error (y), one letter per method.
+    fn chart(&self) -> String {
+        const W: usize = 56;
+        const H: usize = 12;
+        let mut names: Vec<&str> = Vec::new();
+        for r in &self.methods {
+            if !names.contains(&r.method.as_str()) {
+                names.push(&r.method);
+            }
+        }
+        let floor = 1e-17;
+        let pts: Vec<(f64, f64, usize)> = self
+            .methods
+            .iter()
+            .map(|r| {
+                let err = if r.missed + r.spurious > 0 { r.max_endpoint_error.max(1.0) } else { r.max_endpoint_error };
+                let m = names.iter().position(|n| *n == r.method).unwrap_or(0);
+                (r.median_us.max(1e-3).log10(), err.max(floor).log10(), m)
+            })
+            .collect();
+        if pts.is_empty() {
+            return String::new();
+        }
+        let (x0, x1) = pts.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |a, p| (a.0.min(p.0), a.1.max(p.0)));
+        let (y0, y1) = (floor.log10(), 0.5);
+        let mut grid = vec![vec![' '; W]; H];
+        for &(x, y, m) in &pts {
+            let c = if x1 > x0 { ((x - x0) / (x1 - x0) * (W - 1) as f64).round() as usize } else { W / 2 };
+            let r = ((y1 - y) / (y1 - y0) * (H - 1) as f64).round().clamp(0.0, (H - 1) as f64) as usize;
+            grid[r][c.min(W - 1)] = (b'a' + m as u8) as char;
+        }
+        let mut o = String::from("  error (log) ↑; rows from ≥1 (wrong intervals) down to 1e-17\n");
+        for row in grid {
+            o.push_str("  |");
+            o.push_str(&row.into_iter().collect::<String>());
+            o.push('\n');
+        }
+        o.push_str(&format!("  +{}→ time, {:.0} µs … {:.0} µs (log)\n", "-".repeat(W), 10f64.powf(x0), 10f64.powf(x1)));
+        for (i, n) in names.iter().enumerate() {
+            o.push_str(&format!("  {} {n}\n", (b'a' + i as u8) as char));
+        }
+        o
+    }
+}

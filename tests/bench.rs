@@ -1,0 +1,98 @@
+//! Issue 6 (part): `caymos bench` output is correct (never its timings), and
+//! the generated families are what they claim.
+
+use std::process::Command;
+
+use caymos::analysis::analyse;
+use caymos::bench::compare;
+use caymos::generate::{chain, strandbeest, to_toml};
+use caymos::realize::RealizationType;
+use caymos::scene::parse_scene;
+
+#[test]
+fn bench_runs_on_every_bundled_scene_and_hard_case() {
+    let out = Command::new(env!("CARGO_BIN_EXE_caymos"))
+        .args(["bench", "--repeat", "1", "--format", "json"])
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let rows = json["methods"].as_array().unwrap();
+    let in_class = caymos::bundled::BUNDLED
+        .iter()
+        .filter(|b| analyse(caymos::bundled::load(b.name).unwrap(), None).unwrap().outcome.is_ok())
+        .count();
+    let scenes: std::collections::BTreeSet<&str> = rows.iter().map(|r| r["scene"].as_str().unwrap()).collect();
+    assert_eq!(scenes.len(), in_class + caymos::generate::hard_cases().len());
+    for r in rows {
+        let method = r["method"].as_str().unwrap();
+        let err = r["max_endpoint_error"].as_f64().unwrap();
+        assert!(r["median_us"].as_f64().unwrap() >= 0.0);
+        if method.starts_with("exact") || method.contains("full precision") {
+            assert!(err <= 1e-12, "{}: {method}: {err}", r["scene"]);
+            assert_eq!((r["missed"].as_u64(), r["spurious"].as_u64()), (Some(0), Some(0)), "{}: {method}", r["scene"]);
+        }
+        if method.contains("tol 1e-8") {
+            assert!(err <= 1e-7, "{}: {method}: {err}", r["scene"]);
+        }
+    }
+    let steps = json["stepping"].as_array().unwrap();
+    assert!(!steps.is_empty());
+    for r in steps {
+        assert!(r["max_bar_residual"].as_f64().unwrap() <= 1e-12);
+        // The chord error of a geometric step is bounded by the step itself.
+        assert!(r["max_chord_error"].as_f64().unwrap() <= r["step"].as_f64().unwrap());
+    }
+    let text = Command::new(env!("CARGO_BIN_EXE_caymos"))
+        .args(["bench", "fourbar-crank-rocker", "--repeat", "1"])
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&text.stdout);
+    assert!(
+        text.contains("classic (midpoints, abs tol 1e-4)") && text.contains("time µs") && text.contains("error (log)")
+    );
+}
+
+#[test]
+fn compare_counts_missed_and_spurious_intervals() {
+    let t = |s: &str| RealizationType::parse(s).unwrap();
+    let reference = vec![(t("+-"), 1.0, 2.0), (t("--"), 3.0, 4.0)];
+    let method = vec![(t("+-"), 1.0 + 1e-3, 2.0), (t("++"), 3.0, 4.0)];
+    let (err, missed, spurious) = compare(&method, &reference, 10.0);
+    assert!((err - 1e-4).abs() < 1e-12);
+    assert_eq!((missed, spurious), (1, 1));
+}
+
+#[test]
+fn generated_chains_and_strandbeests_are_low_complexity_with_the_right_step_counts() {
+    for n in [1, 4, 7] {
+        let a = analyse(chain(n), None).unwrap();
+        let s = a.outcome.unwrap_or_else(|o| panic!("chain {n}: {o:?}"));
+        assert_eq!(s.dec.steps.len(), n);
+        assert!(s.complexity.low);
+        assert!(!s.space.intervals.is_empty() && s.drawn_positions.is_some());
+    }
+    for legs in [1, 2] {
+        let a = analyse(strandbeest(legs), None).unwrap();
+        let s = a.outcome.unwrap_or_else(|o| panic!("strandbeest {legs}: {o:?}"));
+        assert_eq!(s.dec.steps.len(), 1 + 3 * legs);
+        assert!(s.complexity.low);
+        let bar_check = caymos::realize::bar_residual(&a.linkage, s.drawn_positions.as_ref().unwrap());
+        assert!(bar_check < 1e-9 * a.linkage.scale);
+    }
+}
+
+#[test]
+fn generated_scenes_round_trip_through_toml() {
+    for scene in [chain(5), strandbeest(3)] {
+        let text = to_toml(&scene);
+        let back = parse_scene(&text, "generated.toml", "generated").unwrap();
+        assert_eq!(back.joints.len(), scene.joints.len());
+        assert_eq!(back.bars.len(), scene.bars.len());
+        assert_eq!(back.bodies.len(), scene.bodies.len());
+        assert_eq!(back.base.map(|b| b.0), scene.base.map(|b| b.0));
+        for (x, y) in back.joints.iter().zip(&scene.joints) {
+            assert_eq!((x.name.as_str(), x.pos), (y.name.as_str(), y.pos));
+        }
+    }
+}
