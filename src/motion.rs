@@ -225,6 +225,19 @@ pub struct Segment {
     pub flat_to: Vec<usize>,
 }
 
+impl Segment {
+    /// The same stretch walked the other way.
+    pub fn reversed(&self) -> Segment {
+        Segment {
+            from: self.to,
+            to: self.from,
+            flat_from: self.flat_to.clone(),
+            flat_to: self.flat_from.clone(),
+            ..self.clone()
+        }
+    }
+}
+
 /// The whole component as segments, starting at its first interval's start.
 pub fn component_segments(space: &CayleySpace<f64>, c: &Component) -> Vec<Segment> {
     c.intervals
@@ -276,13 +289,7 @@ pub fn arcs(
         fwd.push(finish(segs[pb].clone()));
     }
     // Backward: against the traversal.
-    let rev = |s: &Segment| Segment {
-        from: s.to,
-        to: s.from,
-        flat_from: s.flat_to.clone(),
-        flat_to: s.flat_from.clone(),
-        ..s.clone()
-    };
+    let rev = Segment::reversed;
     let mut back = Vec::new();
     if pa == pb && !ahead(&segs[pa], la, lb) {
         back.push(finish(start(segs[pa].clone())));

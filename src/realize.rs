@@ -336,39 +336,33 @@ impl<T: Real> Construction<T> {
         upto: usize,
         flat: &[usize],
     ) -> Result<Vec<P2<T>>, Unrealizable> {
+        self.realize_steps(lambda, bits, upto, flat, tolerance::FEASIBLE * self.scale)
+    }
+
+    /// Realize with an absolute slack tolerance `tol` instead of the scaled
+    /// one (for the classic fixed-tolerance baseline in `bench`).
+    pub fn realize_with_tolerance(&self, lambda: T, bits: &[bool], tol: f64) -> Result<Vec<P2<T>>, Unrealizable> {
+        self.realize_steps(lambda, bits, self.steps.len(), &[], tol)
+    }
+
+    /// The first `upto` steps, clamping slack down to `-tol` to flat.
+    fn realize_steps(
+        &self,
+        lambda: T,
+        bits: &[bool],
+        upto: usize,
+        flat: &[usize],
+        tol: f64,
+    ) -> Result<Vec<P2<T>>, Unrealizable> {
         let zero = T::zero();
         let mut pos = vec![[zero, zero]; self.n_joints];
         pos[self.base[1]] = [lambda, zero];
-        let tol = tolerance::FEASIBLE * self.scale;
         for (k, s) in self.steps.iter().enumerate().take(upto) {
             let v =
                 apex_flat(pos[s.u], pos[s.w], s.r1, s.r2, bits[k], tol, flat.contains(&k)).map_err(|e| match e {
                     Some(slack) => Unrealizable::Infeasible { step: k, slack },
                     None => Unrealizable::Degenerate { step: k },
                 })?;
-            pos[s.vertex] = v;
-            for (pivot, list) in [(s.u, &s.members_u), (s.w, &s.members_w)] {
-                let p = pos[pivot];
-                let e = sub(v, p);
-                for m in list {
-                    pos[m.joint] = [p[0] + m.alpha * e[0] - m.beta * e[1], p[1] + m.alpha * e[1] + m.beta * e[0]];
-                }
-            }
-        }
-        Ok(pos)
-    }
-
-    /// Realize with an absolute slack tolerance `tol` instead of the scaled
-    /// one (for the classic fixed-tolerance baseline in `bench`).
-    pub fn realize_with_tolerance(&self, lambda: T, bits: &[bool], tol: f64) -> Result<Vec<P2<T>>, Unrealizable> {
-        let zero = T::zero();
-        let mut pos = vec![[zero, zero]; self.n_joints];
-        pos[self.base[1]] = [lambda, zero];
-        for (k, s) in self.steps.iter().enumerate() {
-            let v = apex(pos[s.u], pos[s.w], s.r1, s.r2, bits[k], tol).map_err(|e| match e {
-                Some(slack) => Unrealizable::Infeasible { step: k, slack },
-                None => Unrealizable::Degenerate { step: k },
-            })?;
             pos[s.vertex] = v;
             for (pivot, list) in [(s.u, &s.members_u), (s.w, &s.members_w)] {
                 let p = pos[pivot];

@@ -316,13 +316,6 @@ impl Model {
                 out.push((i % m, self.segments[i % m].clone()));
             }
         } else {
-            let rev = |s: &Segment| Segment {
-                from: s.to,
-                to: s.from,
-                flat_from: s.flat_to.clone(),
-                flat_to: s.flat_from.clone(),
-                ..s.clone()
-            };
             let flat_from = if self.lambda == cur.to { cur.flat_to.clone() } else { Vec::new() };
             out.push((
                 self.seg,
@@ -333,7 +326,7 @@ impl Model {
                     break;
                 }
                 let i = (self.seg + m * 2 - k) % m;
-                out.push((i, rev(&self.segments[i])));
+                out.push((i, self.segments[i].reversed()));
             }
         }
         out
