@@ -157,34 +157,26 @@ pub fn bench_scene(a: &Analysis, s: &Solved, repeat: usize) -> (Vec<MethodRow>, 
         ("numeric 16 samples, tol 1e-8".into(), Method::Numeric { samples: 16, tol: 1e-8 }),
         ("numeric 8 samples, tol 1e-4".into(), Method::Numeric { samples: 8, tol: 1e-4 }),
     ];
-    for (label, method) in methods {
-        let (t, space) = median_us(repeat, || cayley_space(con, jet.clone(), &s.dec, &s.complexity, method));
-        let got = spans(&space);
-        let (err, missed, spurious) = compare(&got, &reference, scale);
-        rows.push(MethodRow {
+    let row = |method: String, median_us: f64, got: &[Span]| {
+        let (max_endpoint_error, missed, spurious) = compare(got, &reference, scale);
+        MethodRow {
             scene: name.clone(),
-            method: label,
-            median_us: t,
+            method,
+            median_us,
             intervals: got.len(),
             reference_intervals: reference.len(),
-            max_endpoint_error: err,
+            max_endpoint_error,
             missed,
             spurious,
-        });
+        }
+    };
+    for (label, method) in methods {
+        let (t, space) = median_us(repeat, || cayley_space(con, jet.clone(), &s.dec, &s.complexity, method));
+        rows.push(row(label, t, &spans(&space)));
     }
     let (t, classic) = median_us(repeat, || classic_space(con, s));
     if let Some(got) = classic {
-        let (err, missed, spurious) = compare(&got, &reference, scale);
-        rows.push(MethodRow {
-            scene: name.clone(),
-            method: "classic (midpoints, abs tol 1e-4)".into(),
-            median_us: t,
-            intervals: got.len(),
-            reference_intervals: reference.len(),
-            max_endpoint_error: err,
-            missed,
-            spurious,
-        });
+        rows.push(row("classic (midpoints, abs tol 1e-4)".into(), t, &got));
     }
     let mut steps = Vec::new();
     let k = s.drawn_component.unwrap_or(0);
