@@ -75,6 +75,16 @@ fn draw_model(frame: &mut Frame, m: &mut Model, area: Rect, theme: Theme) {
     draw_intervals(frame, m, chart, theme);
 }
 
+/// A bordered braille canvas over the given bounds: both main views use it.
+fn braille<'a, F: Fn(&mut Context)>(title: Line<'a>, xb: [f64; 2], yb: [f64; 2], paint: F) -> Canvas<'a, F> {
+    Canvas::default()
+        .block(Block::bordered().title(title))
+        .marker(Marker::Braille)
+        .x_bounds(xb)
+        .y_bounds(yb)
+        .paint(paint)
+}
+
 /// Canvas bounds with equal scale on both axes (a cell is about twice as tall as wide).
 fn equal_bounds(b: [f64; 4], area: Rect) -> ([f64; 2], [f64; 2]) {
     let (w, h) = (f64::from(area.width.saturating_sub(2).max(1)), f64::from(area.height.saturating_sub(2).max(1)));
@@ -123,44 +133,39 @@ fn draw_linkage(frame: &mut Frame, m: &mut Model, area: Rect, theme: Theme) {
         Span::styled(format!(" {} ", m.analysis.scene.name), theme.title()),
         Span::styled(format!("· {} ", motion_label(m)), theme.dim()),
     ]);
-    let canvas = Canvas::default()
-        .block(Block::bordered().title(title))
-        .marker(Marker::Braille)
-        .x_bounds(xb)
-        .y_bounds(yb)
-        .paint(|ctx| {
-            for (k, (_, t)) in traces.iter().enumerate() {
-                ctx.draw(&Points::new(t, theme.trace(k)));
+    let canvas = braille(title, xb, yb, |ctx| {
+        for (k, (_, t)) in traces.iter().enumerate() {
+            ctx.draw(&Points::new(t, theme.trace(k)));
+        }
+        ctx.layer();
+        for &[p, q] in ccv {
+            dashed(ctx, pos[p], pos[q], theme.non_edge());
+        }
+        for bar in &l.bars {
+            let (p, q) = (pos[bar.joints[0]], pos[bar.joints[1]]);
+            ctx.draw(&Segment2::new(p[0], p[1], q[0], q[1], theme.bar()));
+        }
+        for body in &l.bodies {
+            for (i, &a) in body.iter().enumerate() {
+                let b = body[(i + 1) % body.len()];
+                ctx.draw(&Segment2::new(pos[a][0], pos[a][1], pos[b][0], pos[b][1], theme.bar()));
             }
-            ctx.layer();
-            for &[p, q] in ccv {
-                dashed(ctx, pos[p], pos[q], theme.non_edge());
-            }
-            for bar in &l.bars {
-                let (p, q) = (pos[bar.joints[0]], pos[bar.joints[1]]);
-                ctx.draw(&Segment2::new(p[0], p[1], q[0], q[1], theme.bar()));
-            }
-            for body in &l.bodies {
-                for (i, &a) in body.iter().enumerate() {
-                    let b = body[(i + 1) % body.len()];
-                    ctx.draw(&Segment2::new(pos[a][0], pos[a][1], pos[b][0], pos[b][1], theme.bar()));
-                }
-            }
-            let tick = (xb[1] - xb[0]) * 0.015;
-            for &g in &l.ground {
-                let p = pos[g];
-                ctx.draw(&Segment2::new(p[0] - tick, p[1] - tick, p[0] + tick, p[1] - tick, theme.ground()));
-                ctx.draw(&Segment2::new(p[0] - tick, p[1] - tick, p[0], p[1], theme.ground()));
-                ctx.draw(&Segment2::new(p[0] + tick, p[1] - tick, p[0], p[1], theme.ground()));
-            }
-            ctx.layer();
-            let joints: Vec<(f64, f64)> = pos.iter().map(|p| (p[0], p[1])).collect();
-            ctx.draw(&Points::new(&joints, theme.joint()));
-            for (j, p) in pos.iter().enumerate() {
-                let style = if j == m.selected_joint { theme.highlight() } else { Style::default().fg(theme.joint()) };
-                ctx.print(p[0] + tick * 0.5, p[1], Line::styled(l.names[j].clone(), style));
-            }
-        });
+        }
+        let tick = (xb[1] - xb[0]) * 0.015;
+        for &g in &l.ground {
+            let p = pos[g];
+            ctx.draw(&Segment2::new(p[0] - tick, p[1] - tick, p[0] + tick, p[1] - tick, theme.ground()));
+            ctx.draw(&Segment2::new(p[0] - tick, p[1] - tick, p[0], p[1], theme.ground()));
+            ctx.draw(&Segment2::new(p[0] + tick, p[1] - tick, p[0], p[1], theme.ground()));
+        }
+        ctx.layer();
+        let joints: Vec<(f64, f64)> = pos.iter().map(|p| (p[0], p[1])).collect();
+        ctx.draw(&Points::new(&joints, theme.joint()));
+        for (j, p) in pos.iter().enumerate() {
+            let style = if j == m.selected_joint { theme.highlight() } else { Style::default().fg(theme.joint()) };
+            ctx.print(p[0] + tick * 0.5, p[1], Line::styled(l.names[j].clone(), style));
+        }
+    });
     frame.render_widget(canvas, area);
 }
 
@@ -210,20 +215,15 @@ fn draw_curve(frame: &mut Frame, m: &mut Model, area: Rect, theme: Theme) {
         Span::styled(format!("{} · {} ", names.join(" × "), motion_label(m)), theme.dim()),
         Span::styled(if mirror { "(stands for a mirror pair) " } else { "" }, theme.dim()),
     ]);
-    let canvas = Canvas::default()
-        .block(Block::bordered().title(title))
-        .marker(Marker::Braille)
-        .x_bounds(xb)
-        .y_bounds(yb)
-        .paint(|ctx| {
-            for (k, pts) in &runs {
-                for w in pts.windows(2) {
-                    ctx.draw(&Segment2::new(w[0].0, w[0].1, w[1].0, w[1].1, theme.of_type(*k)));
-                }
+    let canvas = braille(title, xb, yb, |ctx| {
+        for (k, pts) in &runs {
+            for w in pts.windows(2) {
+                ctx.draw(&Segment2::new(w[0].0, w[0].1, w[1].0, w[1].1, theme.of_type(*k)));
             }
-            ctx.layer();
-            ctx.print(here.0, here.1, Line::styled("●", theme.highlight()));
-        });
+        }
+        ctx.layer();
+        ctx.print(here.0, here.1, Line::styled("●", theme.highlight()));
+    });
     frame.render_widget(canvas, area);
 }
 
