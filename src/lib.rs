@@ -22,6 +22,7 @@ pub mod decompose;
 pub mod distance;
 pub mod generate;
 pub mod invert;
+pub mod lazy;
 pub mod linkage;
 pub mod motion;
 pub mod real;

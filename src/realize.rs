@@ -336,16 +336,27 @@ impl<T: Real> Construction<T> {
         upto: usize,
         flat: &[usize],
     ) -> Result<Vec<P2<T>>, Unrealizable> {
-        self.realize_steps(lambda, bits, upto, flat, tolerance::FEASIBLE * self.scale)
+        self.realize_steps(lambda, bits, upto, flat, tolerance::FEASIBLE * self.scale, None)
+    }
+
+    /// The base distances d_0, d_1, … of type `bits` at λ, in step order, up
+    /// to and including the first step that cannot close (or every step).
+    /// Slack down to −[`tolerance::FEASIBLE`]·scale counts as flat, as in
+    /// [`Self::realize`], so the distances continue through an exact endpoint.
+    pub fn base_distances(&self, lambda: T, bits: &[bool]) -> Vec<T> {
+        let mut d = Vec::with_capacity(self.steps.len());
+        let _ = self.realize_steps(lambda, bits, self.steps.len(), &[], tolerance::FEASIBLE * self.scale, Some(&mut d));
+        d
     }
 
     /// Realize with an absolute slack tolerance `tol` instead of the scaled
     /// one (for the classic fixed-tolerance baseline in `bench`).
     pub fn realize_with_tolerance(&self, lambda: T, bits: &[bool], tol: f64) -> Result<Vec<P2<T>>, Unrealizable> {
-        self.realize_steps(lambda, bits, self.steps.len(), &[], tol)
+        self.realize_steps(lambda, bits, self.steps.len(), &[], tol, None)
     }
 
-    /// The first `upto` steps, clamping slack down to `-tol` to flat.
+    /// The first `upto` steps, clamping slack down to `-tol` to flat; each
+    /// step's base distance is pushed to `distances` before it is placed.
     fn realize_steps(
         &self,
         lambda: T,
@@ -353,11 +364,15 @@ impl<T: Real> Construction<T> {
         upto: usize,
         flat: &[usize],
         tol: f64,
+        mut distances: Option<&mut Vec<T>>,
     ) -> Result<Vec<P2<T>>, Unrealizable> {
         let zero = T::zero();
         let mut pos = vec![[zero, zero]; self.n_joints];
         pos[self.base[1]] = [lambda, zero];
         for (k, s) in self.steps.iter().enumerate().take(upto) {
+            if let Some(d) = distances.as_deref_mut() {
+                d.push(norm(sub(pos[s.w], pos[s.u])));
+            }
             let v =
                 apex_flat(pos[s.u], pos[s.w], s.r1, s.r2, bits[k], tol, flat.contains(&k)).map_err(|e| match e {
                     Some(slack) => Unrealizable::Infeasible { step: k, slack },

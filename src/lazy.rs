@@ -1,0 +1,582 @@
+//! Lazy analysis: the connected component through one realization, found by
+//! walking its events (THEORY.md §4) and computing only the types the walk
+//! visits, never the 2^n types of the exhaustive sweep in
+//! [`crate::cayley_space`].
+//!
+//! From a realization (τ, λ0) the interval of τ around λ0 is grown both ways
+//! by [`Walker::next_end`]: the first λ at which some step's slack reaches
+//! zero. There the flat step's bit flips (the flip rule of
+//! [`crate::motion::components`]) and the new type's interval is grown the
+//! other way from the shared endpoint, until the walk is back at its start.
+//!
+//! Finding the next end: the type is realized in [`Jet`]s (every base distance
+//! with its slope and curvature, O(n)) at samples spaced like the numeric
+//! method's (cosine-spaced from the current end to the edge of the base's
+//! range, dense near both). Between two samples each step's slack is
+//! certified to stay positive from its jets: a concave stretch has its
+//! minimum at an end, a convex one lies above both end tangents. Only where
+//! no certificate holds is the step's own minimum (Newton on the slope) or
+//! inflection (bisection on the curvature) located. A sign change is a root,
+//! found by safeguarded Newton to full precision. Steps are examined in
+//! construction order and every root found pulls the gap's far end in, so a
+//! step is only examined where the steps before it close.
+//!
+//! Guarantee: the numeric method's (see `numeric_roots` in
+//! [`crate::cayley_space`]): every end is found unless a gap between samples
+//! holds two inflections of one slack; a near-double root is a tangency and is
+//! noted. Cost: O(samples · n) per interval visited, plus O(k) per Newton
+//! iteration on step k; nothing is exponential in the depth.
+
+use crate::cayley_space::{CayleySpace, Endpoint, Event, Kind, Method, Note, OrientedInterval};
+use crate::real::{Jet, Real};
+use crate::realize::{Construction, RealizationType, Unrealizable};
+use crate::tolerance;
+
+/// How far the walk may go.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LazyOptions {
+    /// Samples from an interval end to the edge of the base's range.
+    pub samples: usize,
+    /// The walk stops (and says so) after this many intervals.
+    pub max_intervals: usize,
+}
+
+impl Default for LazyOptions {
+    fn default() -> Self {
+        LazyOptions { samples: 32, max_intervals: 1 << 16 }
+    }
+}
+
+/// The oriented intervals of the component through `(ty, lambda)`, in walk
+/// order, with shared endpoint ids exactly as the exhaustive sweep gives them
+/// (so [`crate::motion::components`] on the result finds this component).
+/// Errors when the start itself has no realization.
+pub fn component_through<T: Real>(
+    con: &Construction<T>,
+    jet: &Construction<Jet<T>>,
+    ty: &RealizationType,
+    lambda: T,
+    options: LazyOptions,
+) -> Result<CayleySpace<T>, Unrealizable> {
+    con.realize(lambda, ty)?;
+    let mut walker = Walker::new(con, jet, options);
+    let intervals = walker.component(ty, lambda);
+    let mut notes = walker.notes;
+    notes.dedup();
+    Ok(CayleySpace {
+        intervals,
+        notes,
+        method: Method::Numeric { samples: options.samples, tol: 0.0 },
+        numeric_steps: (0..con.steps.len()).collect(),
+    })
+}
+
+/// Base-distance jets of every step realized at λ (up to and including the
+/// first that cannot close).
+struct Probe<T> {
+    lambda: T,
+    d: Vec<Jet<T>>,
+}
+
+/// Where a search for the next end stopped.
+enum End<T> {
+    /// Steps flat at λ.
+    Events(T, Vec<Event>),
+    /// The type stops being realizable at λ without any step flat (a
+    /// degenerate step: its base joints coincide).
+    Stuck(T, usize),
+}
+
+struct Walker<'a, T: Real> {
+    con: &'a Construction<T>,
+    jet: &'a Construction<Jet<T>>,
+    options: LazyOptions,
+    /// Steps on the base need |r1 − r2| ≤ λ ≤ r1 + r2: the walk never leaves this range.
+    range: [T; 2],
+    coincide: T,
+    root_value: T,
+    next_id: usize,
+    notes: Vec<Note>,
+}
+
+fn finite<T: Real>(j: &Jet<T>) -> bool {
+    j.v.to_f64().is_finite() && j.d.to_f64().is_finite() && j.s.to_f64().is_finite()
+}
+
+/// Whether `x` lies strictly between `a` and `b` (in either order).
+fn between<T: Real>(x: T, a: T, b: T) -> bool {
+    (x > a && x < b) || (x > b && x < a)
+}
+
+impl<'a, T: Real> Walker<'a, T> {
+    fn new(con: &'a Construction<T>, jet: &'a Construction<Jet<T>>, options: LazyOptions) -> Self {
+        let mut range = [T::zero(), T::from_f64(f64::INFINITY)];
+        for s in (0..con.steps.len()).filter(|&k| con.on_base(k)).map(|k| &con.steps[k]) {
+            let (lo, hi) = ((s.r1 - s.r2).abs(), s.r1 + s.r2);
+            if lo > range[0] {
+                range[0] = lo;
+            }
+            if hi < range[1] {
+                range[1] = hi;
+            }
+        }
+        let scale = T::from_f64(con.scale);
+        Walker {
+            con,
+            jet,
+            options,
+            range,
+            coincide: T::from_f64(tolerance::EVENTS_COINCIDE) * scale,
+            root_value: T::from_f64(tolerance::ROOT_VALUE) * scale,
+            next_id: 0,
+            notes: Vec::new(),
+        }
+    }
+
+    fn endpoint(&mut self, lambda: T, events: Vec<Event>) -> Endpoint<T> {
+        self.next_id += 1;
+        Endpoint { lambda, events, id: self.next_id }
+    }
+
+    fn probe(&self, bits: &[bool], lambda: T) -> Probe<T> {
+        Probe { lambda, d: self.jet.base_distances(Jet::variable(lambda), bits) }
+    }
+
+    /// Slack of step k for `kind` from its base distance, with the slope
+    /// taken along the walk (`dir` = ±1): positive where the step closes.
+    fn slack(&self, k: usize, kind: Kind, d: Jet<T>, dir: T) -> Jet<T> {
+        let s = &self.con.steps[k];
+        let j = match kind {
+            Kind::Stretched => Jet::constant(s.r1 + s.r2) - d,
+            Kind::Folded => d - Jet::constant((s.r1 - s.r2).abs()),
+        };
+        Jet { v: j.v, d: j.d * dir, s: j.s }
+    }
+
+    /// The ways step k can stop closing. With equal sides (r1 = r2) the
+    /// folded slack is d ≥ 0 itself: it never goes negative, and d = 0 is a
+    /// degenerate step (its base joints coincide), not an end.
+    fn kinds(&self, k: usize) -> &'static [Kind] {
+        let s = &self.con.steps[k];
+        if s.r1 == s.r2 { &[Kind::Stretched] } else { &[Kind::Stretched, Kind::Folded] }
+    }
+
+    /// Step k's slack at λ alone (realizing only the steps before it).
+    fn slack_at(&self, bits: &[bool], k: usize, kind: Kind, lambda: T, dir: T) -> Option<Jet<T>> {
+        let pos = self.jet.realize_prefix(Jet::variable(lambda), bits, k).ok()?;
+        let d = self.jet.base_distance(&pos, k);
+        d.v.to_f64().is_finite().then(|| self.slack(k, kind, d, dir))
+    }
+
+    /// The whole component through (ty, λ): its start interval, then the
+    /// walk upward from the start's upper end until it closes; an open walk
+    /// (a dead end) is continued from the start's lower end as well.
+    fn component(&mut self, ty: &RealizationType, lambda: T) -> Vec<OrientedInterval<T>> {
+        let p0 = self.probe(&ty.0, lambda);
+        let one = T::from_f64(1.0);
+        let upper = self.next_end(&ty.0, &p0, one, &[]);
+        let lower = self.next_end(&ty.0, &p0, -one, &[]);
+        let (upper, lower) = (self.end_point(upper), self.end_point(lower));
+        let mut intervals = vec![OrientedInterval { ty: ty.clone(), lower, upper }];
+        if !self.walk(&mut intervals, true) {
+            self.walk(&mut intervals, false);
+        }
+        intervals
+    }
+
+    fn end_point(&mut self, end: End<T>) -> Endpoint<T> {
+        match end {
+            End::Events(lambda, events) if !events.is_empty() => {
+                if events.len() > 1 {
+                    self.notes.push(Note::Coincident { lambda: lambda.to_f64(), events: events.clone() });
+                }
+                self.endpoint(lambda, events)
+            }
+            End::Events(lambda, _) => self.endpoint(lambda, Vec::new()),
+            End::Stuck(lambda, step) => {
+                let l = lambda.to_f64();
+                self.notes.push(Note::Degenerate { lambda: [l, l], step });
+                self.endpoint(lambda, Vec::new())
+            }
+        }
+    }
+
+    /// Follow the flip rule from the start interval's upper (or lower) end
+    /// until the walk returns to the start (`true`) or cannot go on.
+    fn walk(&mut self, intervals: &mut Vec<OrientedInterval<T>>, from_upper: bool) -> bool {
+        let (mut cur, mut leaving_upper) = (0, from_upper);
+        loop {
+            let e = if leaving_upper { intervals[cur].upper.clone() } else { intervals[cur].lower.clone() };
+            if e.events.is_empty() {
+                return false;
+            }
+            if intervals.len() >= self.options.max_intervals {
+                self.notes.push(Note::Unresolved {
+                    lambda: e.lambda.to_f64(),
+                    step: e.events[0].step,
+                    detail: format!("the lazy walk stopped after {} intervals", intervals.len()),
+                });
+                return false;
+            }
+            // Into the next type on the same side of λ: walk the other way.
+            let dir = T::from_f64(if leaving_upper { -1.0 } else { 1.0 });
+            let Some(next) = self.flip(&intervals[cur].ty, &e, dir) else {
+                return false;
+            };
+            let same_end = |iv: &OrientedInterval<T>| {
+                let end = if leaving_upper { &iv.upper } else { &iv.lower };
+                iv.ty == next && (end.lambda - e.lambda).abs() <= self.coincide
+            };
+            if let Some(j) = intervals.iter().position(same_end) {
+                // Back at an interval already walked: share the endpoint.
+                let end = if leaving_upper { &mut intervals[j].upper } else { &mut intervals[j].lower };
+                *end = e;
+                return j == 0;
+            }
+            let p = self.probe(&next.0, e.lambda);
+            let other = self.next_end(&next.0, &p, dir, &e.events);
+            let other = self.end_point(other);
+            let iv = if leaving_upper {
+                OrientedInterval { ty: next, lower: other, upper: e }
+            } else {
+                OrientedInterval { ty: next, lower: e, upper: other }
+            };
+            intervals.push(iv);
+            cur = intervals.len() - 1;
+            leaving_upper = !leaving_upper;
+        }
+    }
+
+    /// The type the motion continues into at endpoint `e` of `ty`: the flat
+    /// step's bit flipped. With several steps flat at once, the first single
+    /// flip (else set of flips) whose type is realizable just beside `e` in
+    /// direction `dir`.
+    fn flip(&mut self, ty: &RealizationType, e: &Endpoint<T>, dir: T) -> Option<RealizationType> {
+        let steps: Vec<usize> = e.events.iter().map(|ev| ev.step).collect();
+        if steps.len() == 1 {
+            return Some(ty.flipped(steps[0]));
+        }
+        let beside = e.lambda + dir * T::from_f64(tolerance::FEASIBLE.sqrt() * self.con.scale);
+        let realizable = |t: &RealizationType| self.con.realize(beside, t).is_ok();
+        let flipped = |mask: usize| {
+            let mut t = ty.clone();
+            for (b, &k) in steps.iter().enumerate() {
+                if mask & (1 << b) != 0 {
+                    t = t.flipped(k);
+                }
+            }
+            t
+        };
+        let singles = (0..steps.len()).map(|b| 1usize << b);
+        let all = 1..(1usize << steps.len().min(8));
+        singles.chain(all).map(flipped).find(|t| realizable(t))
+    }
+
+    /// The first end of type `bits`'s interval beyond `from` in direction
+    /// `dir`; `entering` are the events the walk came in through at `from`.
+    fn next_end(&mut self, bits: &[bool], from: &Probe<T>, dir: T, entering: &[Event]) -> End<T> {
+        let far = if dir > T::zero() { self.range[1] } else { self.range[0] };
+        let length = (far - from.lambda) * dir;
+        if length <= T::zero() {
+            let events = self.flat_on_base(from.lambda);
+            return End::Events(from.lambda, events);
+        }
+        let m = self.options.samples.max(4);
+        let half = T::from_f64(0.5);
+        let mut near = Probe { lambda: from.lambda, d: from.d.clone() };
+        let mut flat_at_near = entering.to_vec();
+        for i in 1..=m {
+            let x = if i == m {
+                far
+            } else {
+                let c = (std::f64::consts::PI * i as f64 / m as f64).cos();
+                from.lambda + dir * length * half * T::from_f64(1.0 - c)
+            };
+            let right = self.probe(bits, x);
+            match self.scan_gap(bits, &near, &right, dir, &flat_at_near) {
+                Some((lambda, mut events)) => {
+                    self.coincident_beyond(bits, lambda, dir, &mut events);
+                    return End::Events(lambda, events);
+                }
+                None if right.d.len() < self.con.steps.len() => {
+                    // The prefix fails at x with no step flat before it.
+                    return End::Stuck(x, right.d.len().saturating_sub(1));
+                }
+                None => {}
+            }
+            near = right;
+            flat_at_near.clear();
+        }
+        // Unreachable in exact arithmetic: the base range ends with a step flat.
+        End::Events(far, self.flat_on_base(far))
+    }
+
+    fn flat_on_base(&self, lambda: T) -> Vec<Event> {
+        let mut out = Vec::new();
+        for k in (0..self.con.steps.len()).filter(|&k| self.con.on_base(k)) {
+            let s = &self.con.steps[k];
+            for (kind, t) in [(Kind::Stretched, s.r1 + s.r2), (Kind::Folded, (s.r1 - s.r2).abs())] {
+                if (lambda - t).abs() <= self.coincide {
+                    out.push(Event { step: k, kind });
+                }
+            }
+        }
+        out
+    }
+
+    /// Steps (not yet listed) whose root lies within the coincidence
+    /// tolerance beyond an end: they are flat there too, as the exhaustive
+    /// sweep would say.
+    fn coincident_beyond(&self, bits: &[bool], lambda: T, dir: T, events: &mut Vec<Event>) {
+        let p = self.probe(bits, lambda + dir * self.coincide);
+        for (k, d) in p.d.iter().enumerate() {
+            if events.iter().any(|e| e.step == k) {
+                continue;
+            }
+            for &kind in self.kinds(k) {
+                if self.slack(k, kind, *d, dir).v < T::zero() {
+                    events.push(Event { step: k, kind });
+                }
+            }
+        }
+    }
+
+    /// The first end in the gap (near, right] between two samples, if any.
+    fn scan_gap(
+        &mut self,
+        bits: &[bool],
+        near: &Probe<T>,
+        right: &Probe<T>,
+        dir: T,
+        flat_at_near: &[Event],
+    ) -> Option<(T, Vec<Event>)> {
+        // Once a root is found, the gap ends there: later steps are examined up to it.
+        let mut shrunk: Option<Probe<T>> = None;
+        let mut events: Vec<Event> = Vec::new();
+        for k in 0..self.con.steps.len() {
+            let far = shrunk.as_ref().unwrap_or(right);
+            if k >= far.d.len() || k >= near.d.len() {
+                break; // the prefix fails with no step flat: the caller reports it
+            }
+            for &kind in self.kinds(k) {
+                let far = shrunk.as_ref().unwrap_or(right);
+                let s0 = self.slack(k, kind, near.d[k], dir);
+                let s1 = self.slack(k, kind, far.d[k], dir);
+                let entering = flat_at_near.contains(&Event { step: k, kind });
+                let Some(root) = self.first_root(bits, k, kind, (near.lambda, s0), (far.lambda, s1), dir, entering)
+                else {
+                    continue;
+                };
+                let event = Event { step: k, kind };
+                if shrunk.is_some() && (root - far.lambda).abs() <= self.coincide {
+                    events.push(event);
+                } else {
+                    events = vec![event];
+                    shrunk = Some(self.probe(bits, root));
+                }
+            }
+        }
+        shrunk.map(|p| (p.lambda, events))
+    }
+
+    /// The first λ in (a, b] (walking in `dir`) where step k's slack for
+    /// `kind` becomes negative; `s0`, `s1` are the slack jets at a and b with
+    /// slopes along the walk. `entering`: the slack is zero at a by
+    /// construction and grows into the gap.
+    #[allow(clippy::too_many_arguments)]
+    fn first_root(
+        &mut self,
+        bits: &[bool],
+        k: usize,
+        kind: Kind,
+        (a, s0): (T, Jet<T>),
+        (b, s1): (T, Jet<T>),
+        dir: T,
+        entering: bool,
+    ) -> Option<T> {
+        let zero = T::zero();
+        if !self.closes_beyond(s0, entering) {
+            return Some(a);
+        }
+        if s1.v <= zero {
+            return Some(if s1.v == zero { b } else { self.locate(bits, k, kind, a, b, dir) });
+        }
+        let s0 = Jet { v: if s0.v < zero { zero } else { s0.v }, ..s0 };
+        if !(finite(&s0) && finite(&s1)) {
+            // Next to an end where an earlier step is flat, d_k behaves like
+            // a square root (monotone): a sign change is all there is to find.
+            return None;
+        }
+        self.search(bits, k, kind, (a, s0), (b, s1), dir, 0)
+    }
+
+    /// Whether a slack with jet `s` at a (slope along the walk) is positive
+    /// just beyond a. At zero (to [`tolerance::ROOT_VALUE`], or when the walk
+    /// entered through this step) the slope decides, or at a tangency the
+    /// curvature: an isolated point has its slack negative on both sides.
+    fn closes_beyond(&self, s: Jet<T>, entering: bool) -> bool {
+        let zero = T::zero();
+        if s.v > self.root_value || (s.v > zero && !finite(&s)) {
+            return true;
+        }
+        if s.v < -self.root_value && !entering {
+            return false;
+        }
+        let slope_tol = T::from_f64(tolerance::tangent_slope(T::UNIT_ROUNDOFF));
+        if s.d.abs() > slope_tol { s.d > zero } else { s.s > zero }
+    }
+
+    /// Roots of a slack positive at both ends of [a, b], from its jets.
+    #[allow(clippy::too_many_arguments)]
+    fn search(
+        &mut self,
+        bits: &[bool],
+        k: usize,
+        kind: Kind,
+        (a, s0): (T, Jet<T>),
+        (b, s1): (T, Jet<T>),
+        dir: T,
+        depth: u32,
+    ) -> Option<T> {
+        let zero = T::zero();
+        let length = (b - a) * dir;
+        let (convex0, convex1) = (s0.s >= zero, s1.s >= zero);
+        if !convex0 && !convex1 {
+            return None; // concave: the minimum is at an end
+        }
+        if convex0 && convex1 {
+            if s0.d >= zero || s1.d <= zero {
+                return None; // monotone toward the higher end
+            }
+            // Both tangents lie below a convex function; they cross at t*.
+            let t = (s1.v - s1.d * length - s0.v) / (s0.d - s1.d);
+            if s0.v + s0.d * t > zero {
+                return None;
+            }
+            return self.through_minimum(bits, k, kind, a, b, dir);
+        }
+        // One inflection: the convex part lies above the tangent at its end,
+        // the concave part above its end values.
+        let bound = if convex0 {
+            s0.v + if s0.d < zero { s0.d * length } else { zero }
+        } else {
+            s1.v - if s1.d > zero { s1.d * length } else { zero }
+        };
+        if bound > zero {
+            return None;
+        }
+        let c = bisect(a, b, |x| self.slack_at(bits, k, kind, x, dir).map(|s| s.s >= zero));
+        let margin = length * T::from_f64(1e-6);
+        let sc = self.slack_at(bits, k, kind, c, dir)?;
+        if depth >= 40 || (c - a).abs() <= margin || (b - c).abs() <= margin || !finite(&sc) {
+            return self.through_minimum(bits, k, kind, a, b, dir);
+        }
+        if sc.v <= zero {
+            return Some(self.locate(bits, k, kind, a, c, dir));
+        }
+        self.search(bits, k, kind, (a, s0), (c, sc), dir, depth + 1)
+            .or_else(|| self.search(bits, k, kind, (c, sc), (b, s1), dir, depth + 1))
+    }
+
+    /// The slack's minimum between a and b decides: above zero no root; at
+    /// zero (to [`tolerance::ROOT_VALUE`]) a tangency inside the interval;
+    /// below zero the first root is before the minimum.
+    fn through_minimum(&mut self, bits: &[bool], k: usize, kind: Kind, a: T, b: T, dir: T) -> Option<T> {
+        let zero = T::zero();
+        let slope = |this: &Self, x: T| this.slack_at(bits, k, kind, x, dir);
+        let (Some(sa), Some(sb)) = (slope(self, a), slope(self, b)) else { return None };
+        if !(sa.d < zero && sb.d > zero) {
+            return None;
+        }
+        // The slope (along the walk) goes from negative to positive: Newton on −slope.
+        let m = newton(a, b, |x| slope(self, x).map(|s| (-s.d, -s.s * dir)));
+        let sm = slope(self, m)?;
+        if sm.v > self.root_value {
+            return None;
+        }
+        if sm.v >= -self.root_value {
+            let event = Event { step: k, kind };
+            self.notes.push(Note::Tangency { lambda: m.to_f64(), event, inside: true });
+            if sm.v != zero {
+                self.notes.push(Note::Unresolved {
+                    lambda: m.to_f64(),
+                    step: k,
+                    detail: "a near-double root: two endpoints or none, not separable at this precision".into(),
+                });
+            }
+            return None;
+        }
+        Some(self.locate(bits, k, kind, a, m, dir))
+    }
+
+    /// The root of step k's slack between a (slack > 0) and b (≤ 0).
+    fn locate(&self, bits: &[bool], k: usize, kind: Kind, a: T, b: T, dir: T) -> T {
+        newton(a, b, |x| self.slack_at(bits, k, kind, x, dir).map(|s| (s.v, s.d * dir)))
+    }
+}
+
+/// Bisection for the change of a predicate between a (where it has one
+/// value) and b (the other); an undefined point counts as b's side.
+fn bisect<T: Real>(mut a: T, mut b: T, f: impl Fn(T) -> Option<bool>) -> T {
+    let fa = f(a);
+    let two = T::from_f64(2.0);
+    for _ in 0..200 {
+        let m = (a + b) / two;
+        if !between(m, a, b) {
+            break;
+        }
+        if f(m).is_some() && f(m) == fa {
+            a = m;
+        } else {
+            b = m;
+        }
+    }
+    (a + b) / two
+}
+
+/// A root of g between a (g > 0) and b (g ≤ 0, or undefined): Newton steps
+/// from g's value and derivative (`f` gives both, in λ) while they stay
+/// inside the shrinking bracket, bisection otherwise; to full precision.
+fn newton<T: Real>(a: T, b: T, f: impl Fn(T) -> Option<(T, T)>) -> T {
+    let (mut pos, mut neg) = (a, b);
+    let two = T::from_f64(2.0);
+    let mut x = (a + b) / two;
+    let mut best = (x, T::from_f64(f64::INFINITY));
+    for _ in 0..200 {
+        let Some((g, dg)) = f(x) else {
+            neg = x;
+            x = (pos + neg) / two;
+            if !between(x, pos, neg) {
+                break;
+            }
+            continue;
+        };
+        if g.abs() < best.1 {
+            best = (x, g.abs());
+        }
+        if g == T::zero() {
+            return x;
+        }
+        if g > T::zero() {
+            pos = x;
+        } else {
+            neg = x;
+        }
+        let step = g / dg;
+        let next = x - step;
+        let tiny = T::from_f64(4.0 * T::UNIT_ROUNDOFF) * x.abs();
+        if between(next, pos, neg) && step.to_f64().is_finite() {
+            if step.abs() <= tiny {
+                return next;
+            }
+            x = next;
+        } else {
+            let mid = (pos + neg) / two;
+            if !between(mid, pos, neg) {
+                break;
+            }
+            x = mid;
+        }
+    }
+    best.0
+}
