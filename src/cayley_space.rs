@@ -300,7 +300,7 @@ impl<T: Real> Sweep<'_, T> {
                 // numeric ones are bracketed sign changes, roots by construction.
                 let accepted = self.exact[k].is_none()
                     || g.v.abs() <= T::from_f64(tolerance::ROOT_VALUE) * scale
-                    || (g.v / g.d).abs() <= T::from_f64(tolerance::ROOT_STEP) * scale;
+                    || self.brackets_root(k, bits, lambda, g, t);
                 if !accepted || !(g.d.to_f64().is_finite() || at != At::Inside) {
                     continue;
                 }
@@ -311,6 +311,20 @@ impl<T: Real> Sweep<'_, T> {
         roots.sort_by(|a, b| cmp(&a.lambda, &b.lambda));
         roots.dedup_by(|a, b| a.lambda == b.lambda && a.kind == b.kind);
         roots
+    }
+
+    /// A candidate whose Newton correction s = g/g′ is within
+    /// [`tolerance::ROOT_STEP`] is a root only if g also changes sign across
+    /// it (at λ − 2s). A small correction alone is no proof: next to an end
+    /// where an earlier step is flat, g′ grows without bound, and a candidate
+    /// that is another type's root would pass.
+    fn brackets_root(&self, k: usize, bits: &[bool], lambda: T, g: Jet<T>, t: T) -> bool {
+        let step = g.v / g.d;
+        if !(step.abs() <= T::from_f64(tolerance::ROOT_STEP * self.con.scale)) {
+            return false;
+        }
+        let beyond = lambda - step - step;
+        self.distance(k, bits, beyond).is_some_and(|d| sign(d.v - t) * sign(g.v) <= 0)
     }
 
     /// Split `piece` by the slack of step k into the parts where it closes.

@@ -285,18 +285,52 @@ impl<'a, T: Real> Walker<'a, T> {
         let half = T::from_f64(0.5);
         let mut near = Probe { lambda: from.lambda, d: from.d.clone() };
         let mut flat_at_near = entering.to_vec();
-        for i in 1..=m {
-            let x = if i == m {
+        let grid = |i: usize| {
+            if i == m {
                 far
             } else {
                 let c = (std::f64::consts::PI * i as f64 / m as f64).cos();
                 from.lambda + dir * length * half * T::from_f64(1.0 - c)
-            };
+            }
+        };
+        let finest = T::from_f64(tolerance::ROOT_STEP * self.con.scale);
+        // Samples still to visit, nearest last; refined where the jets disagree.
+        let mut pending: Vec<T> = (1..=m).rev().map(grid).collect();
+        if !entering.is_empty() {
+            // Steps after the entering one behave like square roots next to
+            // `from`: approach it geometrically, where such a slack is well modelled.
+            let first = grid(1);
+            pending.extend(toward(from.lambda, first, finest).into_iter().rev());
+        }
+        // An end found inside a gap is accepted once the approach to it has
+        // been sampled geometrically as well (later steps behave like square
+        // roots next to it, and their jets say nothing there).
+        let mut approaching: Option<(T, Vec<Event>)> = None;
+        while let Some(x) = pending.pop() {
             let right = self.probe(bits, x);
-            match self.scan_gap(bits, &near, &right, dir, &flat_at_near) {
-                Some((lambda, mut events)) => {
-                    self.coincident_beyond(bits, lambda, dir, &mut events);
-                    return End::Events(lambda, events);
+            if (x - near.lambda).abs() > finest && !self.well_sampled(&near, &right, dir) {
+                pending.push(x);
+                pending.push((near.lambda + x) * half);
+                continue;
+            }
+            let found = self.scan_gap(bits, &near, &right, dir, &flat_at_near);
+            let verified = match &approaching {
+                // The last gap before the end being approached: rounding may
+                // leave its slack a hair positive at the end itself.
+                Some((at, _)) if *at == x => found.clone().or(approaching.take()),
+                _ => found.clone().filter(|(lambda, _)| (*lambda - near.lambda).abs() <= finest),
+            };
+            if let Some((lambda, mut events)) = verified {
+                self.coincident_beyond(bits, lambda, dir, &mut events);
+                return End::Events(lambda, events);
+            }
+            match found {
+                Some((lambda, events)) => {
+                    pending.clear();
+                    pending.push(lambda);
+                    pending.extend(toward(lambda, near.lambda, finest));
+                    approaching = Some((lambda, events));
+                    continue;
                 }
                 None if right.d.len() < self.con.steps.len() => {
                     // The prefix fails at x with no step flat before it.
@@ -309,6 +343,38 @@ impl<'a, T: Real> Walker<'a, T> {
         }
         // Unreachable in exact arithmetic: the base range ends with a step flat.
         End::Events(far, self.flat_on_base(far))
+    }
+
+    /// Whether every slack's quadratic Taylor model from each end of the gap
+    /// predicts its value at the other end to within a quarter of the
+    /// slack's size there. The certificates of [`Self::search`] read the
+    /// shape of a slack from its curvature at the two ends; that holds when
+    /// the gap is short against the slack's variation, which this checks
+    /// (a slack that dips to zero between two samples with the curvature of
+    /// one sign at both ends fails it). A sign change needs no model: the
+    /// root is bracketed, and steps after it are not examined.
+    fn well_sampled(&self, near: &Probe<T>, right: &Probe<T>, dir: T) -> bool {
+        let half = T::from_f64(0.5);
+        let length = (right.lambda - near.lambda) * dir;
+        let n = near.d.len().min(right.d.len());
+        for k in 0..n {
+            for &kind in self.kinds(k) {
+                let (s0, s1) = (self.slack(k, kind, near.d[k], dir), self.slack(k, kind, right.d[k], dir));
+                if s1.v <= T::zero() {
+                    return true;
+                }
+                if !(finite(&s0) && finite(&s1)) {
+                    continue;
+                }
+                let ahead = s0.v + s0.d * length + half * s0.s * length * length;
+                let back = s1.v - s1.d * length + half * s1.s * length * length;
+                let margin = T::from_f64(0.25) * half * ((if s0.v > T::zero() { s0.v } else { T::zero() }) + s1.v);
+                if (ahead - s1.v).abs() > margin || (back - s0.v).abs() > margin {
+                    return false;
+                }
+            }
+        }
+        true
     }
 
     fn flat_on_base(&self, lambda: T) -> Vec<Event> {
@@ -398,10 +464,15 @@ impl<'a, T: Real> Walker<'a, T> {
         if !self.closes_beyond(s0, entering) {
             return Some(a);
         }
-        if s1.v <= zero {
-            return Some(if s1.v == zero { b } else { self.locate(bits, k, kind, a, b, dir) });
+        if s1.v <= zero && self.rounding_at_tangency(s1) {
+            // A touch (or rounding at one): not an end.
+        } else if s1.v == zero {
+            return Some(b);
+        } else if s1.v < zero {
+            return Some(self.locate(bits, k, kind, a, b, dir));
         }
-        let s0 = Jet { v: if s0.v < zero { zero } else { s0.v }, ..s0 };
+        let clamp = |s: Jet<T>| Jet { v: if s.v < zero { zero } else { s.v }, ..s };
+        let (s0, s1) = (clamp(s0), clamp(s1));
         if !(finite(&s0) && finite(&s1)) {
             // Next to an end where an earlier step is flat, d_k behaves like
             // a square root (monotone): a sign change is all there is to find.
@@ -410,20 +481,31 @@ impl<'a, T: Real> Walker<'a, T> {
         self.search(bits, k, kind, (a, s0), (b, s1), dir, 0)
     }
 
+    /// A slack a few rounding errors below zero where it is nearly tangent
+    /// (its quadratic model's extremum, −s′²/2s″, is within that rounding of
+    /// zero) cannot be told from a touch: rounding, not a crossing. A double
+    /// root is only located to about √ε, and counting such noise as two
+    /// crossings would split an interval at a tangency.
+    fn rounding_at_tangency(&self, s: Jet<T>) -> bool {
+        let noise = T::from_f64(64.0 * T::UNIT_ROUNDOFF * self.con.scale);
+        finite(&s) && s.v >= -noise && s.d * s.d <= T::from_f64(2.0) * s.s.abs() * noise
+    }
+
     /// Whether a slack with jet `s` at a (slope along the walk) is positive
-    /// just beyond a. At zero (to [`tolerance::ROOT_VALUE`], or when the walk
-    /// entered through this step) the slope decides, or at a tangency the
-    /// curvature: an isolated point has its slack negative on both sides.
+    /// just beyond a. At or just below zero (to [`tolerance::ROOT_VALUE`], or
+    /// when the walk entered through this step) the slope decides, or at a
+    /// tangency the curvature: an isolated point has its slack negative on
+    /// both sides.
     fn closes_beyond(&self, s: Jet<T>, entering: bool) -> bool {
         let zero = T::zero();
-        if s.v > self.root_value || (s.v > zero && !finite(&s)) {
+        if s.v > zero {
             return true;
         }
         if s.v < -self.root_value && !entering {
             return false;
         }
         let slope_tol = T::from_f64(tolerance::tangent_slope(T::UNIT_ROUNDOFF));
-        if s.d.abs() > slope_tol { s.d > zero } else { s.s > zero }
+        if s.d.abs() > slope_tol && !self.rounding_at_tangency(s) { s.d > zero } else { s.s > zero }
     }
 
     /// Roots of a slack positive at both ends of [a, b], from its jets.
@@ -513,6 +595,19 @@ impl<'a, T: Real> Walker<'a, T> {
     fn locate(&self, bits: &[bool], k: usize, kind: Kind, a: T, b: T, dir: T) -> T {
         newton(a, b, |x| self.slack_at(bits, k, kind, x, dir).map(|s| (s.v, s.d * dir)))
     }
+}
+
+/// Points from `from` toward `end`, ever closer to `end`: end − (end − from)·4^−i
+/// down to a distance `finest`, the nearest to `end` first.
+fn toward<T: Real>(end: T, from: T, finest: T) -> Vec<T> {
+    let mut out = Vec::new();
+    let mut offset = (from - end) / T::from_f64(4.0);
+    while offset.abs() > finest && out.len() < 24 {
+        out.push(end + offset);
+        offset = offset / T::from_f64(4.0);
+    }
+    out.reverse();
+    out
 }
 
 /// Bisection for the change of a predicate between a (where it has one
