@@ -388,63 +388,88 @@ pub fn classify(linkage: &Linkage) -> Result<ClusterSet, Outside> {
 /// Each round merges the part built so far (which contains `f`) with two
 /// clusters sharing a joint; among the possible rounds the one whose base
 /// joints were placed earliest is taken, so the order is deterministic.
+///
+/// Candidate rounds wait in a heap keyed by (when u was placed, when w was
+/// placed, vertex), which never changes once a candidate exists; each joint
+/// that joins the built part is examined once for new candidates, and a
+/// popped candidate is re-checked (its clusters may have been used since).
+/// So the cost is about linear in the size of the linkage.
 pub fn steps_from_base(clusters: &ClusterSet, n_joints: usize, f: [usize; 2]) -> Option<Vec<Step>> {
+    use std::cmp::Reverse;
+    use std::collections::BinaryHeap;
     let [a, b] = f;
     if a == b || clusters.containing(a).any(|c| clusters.contains(c, b)) {
         return None;
     }
-    let mut set = clusters.clone();
-    let mut built = set.add(vec![a, b], Origin::Base);
+    // The built part is the set of placed joints; clusters merged into it die.
+    let mut alive = clusters.alive.clone();
     let mut placed_at = vec![usize::MAX; n_joints];
     placed_at[a] = 0;
     placed_at[b] = 0;
+    let live = |alive: &[bool], j: usize| clusters.by_joint[j].iter().copied().filter(|&c| alive[c]).collect::<Vec<_>>();
+    let joints = |c: usize| clusters.nodes[c].joints.as_slice();
+    let shared_with_built =
+        |placed_at: &[usize], c: usize| joints(c).iter().copied().filter(|&j| placed_at[j] != usize::MAX).collect::<Vec<_>>();
     let mut steps = Vec::new();
+    // (key, p, y, z, q, r): triangle built–y–z with p = built ∩ y, q = y ∩ z, r = built ∩ z.
+    type Candidate = ((usize, usize, usize), usize, usize, usize, usize, usize);
+    let mut heap: BinaryHeap<Reverse<Candidate>> = BinaryHeap::new();
+    let mut fresh: Vec<usize> = vec![a, b];
+    let mut placed_count = 2;
     loop {
-        let mut best: Option<((usize, usize, usize), Step, Merge)> = None;
-        for &p in &set.nodes[built].joints {
-            for y in set.containing(p) {
-                if y == built {
-                    continue;
-                }
-                if set.shared(built, y) != [p] {
+        // New joints of the built part: over-constraint checks and new candidates.
+        for p in std::mem::take(&mut fresh) {
+            for y in live(&alive, p) {
+                if shared_with_built(&placed_at, y) != [p] {
                     return None; // shares two joints: over-constrained
                 }
-                for &q in &set.nodes[y].joints {
+                for &q in joints(y) {
                     if placed_at[q] != usize::MAX {
                         continue;
                     }
-                    for z in set.containing(q) {
-                        if z == y || z == built || set.shared(y, z) != [q] {
+                    for z in live(&alive, q) {
+                        if z == y || clusters.shared(y, z) != [q] {
                             continue;
                         }
-                        let [r] = set.shared(built, z)[..] else { continue };
-                        let (mut u, mut w, mut cu, mut cw) = (p, r, y, z);
-                        let older = |s: usize, t: usize| (placed_at[s], s) < (placed_at[t], t);
-                        let on_base = (u == b && w == a) || (!(u == a && w == b) && older(w, u));
-                        if on_base {
-                            std::mem::swap(&mut u, &mut w);
-                            std::mem::swap(&mut cu, &mut cw);
-                        }
-                        let key = (placed_at[u].max(placed_at[w]), placed_at[u].min(placed_at[w]), q);
-                        if best.as_ref().is_none_or(|(k, _, _)| key < *k) {
-                            let step = Step { vertex: q, u, w, cluster_u: cu, cluster_w: cw };
-                            best = Some((key, step, Merge::Triangle { parts: [built, y, z], shared: [p, q, r] }));
-                        }
+                        let [r] = shared_with_built(&placed_at, z)[..] else { continue };
+                        let key = (placed_at[p].max(placed_at[r]), placed_at[p].min(placed_at[r]), q);
+                        heap.push(Reverse((key, p, y, z, q, r)));
                     }
                 }
             }
         }
-        let Some((_, step, merge)) = best else { break };
-        let placed = steps.len() + 1;
-        for &j in set.nodes[step.cluster_u].joints.iter().chain(&set.nodes[step.cluster_w].joints) {
+        let candidate = loop {
+            let Some(Reverse((_, p, y, z, q, r))) = heap.pop() else { break None };
+            let valid = alive[y]
+                && alive[z]
+                && placed_at[q] == usize::MAX
+                && shared_with_built(&placed_at, y) == [p]
+                && shared_with_built(&placed_at, z) == [r];
+            if valid {
+                break Some((p, y, z, q, r));
+            }
+        };
+        let Some((p, y, z, q, r)) = candidate else { break };
+        let (mut u, mut w, mut cu, mut cw) = (p, r, y, z);
+        let older = |s: usize, t: usize| (placed_at[s], s) < (placed_at[t], t);
+        let on_base = (u == b && w == a) || (!(u == a && w == b) && older(w, u));
+        if on_base {
+            std::mem::swap(&mut u, &mut w);
+            std::mem::swap(&mut cu, &mut cw);
+        }
+        steps.push(Step { vertex: q, u, w, cluster_u: cu, cluster_w: cw });
+        let placed = steps.len();
+        for &j in joints(y).iter().chain(joints(z)) {
             if placed_at[j] == usize::MAX {
                 placed_at[j] = placed;
+                placed_count += 1;
+                fresh.push(j);
             }
         }
-        built = set.apply(merge);
-        steps.push(step);
+        alive[y] = false;
+        alive[z] = false;
     }
-    (set.nodes[built].joints.len() == n_joints).then_some(steps)
+    (placed_count == n_joints).then_some(steps)
 }
 
 /// Non-edges that could start a construction: `a` and `b` in two clusters
