@@ -356,6 +356,7 @@ impl<'a, T: Real> Walker<'a, T> {
     fn well_sampled(&self, near: &Probe<T>, right: &Probe<T>, dir: T) -> bool {
         let half = T::from_f64(0.5);
         let length = (right.lambda - near.lambda) * dir;
+        let coarse = T::from_f64(1e-7 * self.con.scale);
         let n = near.d.len().min(right.d.len());
         for k in 0..n {
             for &kind in self.kinds(k) {
@@ -370,6 +371,11 @@ impl<'a, T: Real> Walker<'a, T> {
                 let back = s1.v - s1.d * length + half * s1.s * length * length;
                 let margin = T::from_f64(0.25) * half * ((if s0.v > T::zero() { s0.v } else { T::zero() }) + s1.v);
                 if (ahead - s1.v).abs() > margin || (back - s0.v).abs() > margin {
+                    return false;
+                }
+                // An uncertified slack is refined by samples of all steps at
+                // once rather than by its own search, down to a short gap.
+                if length > coarse && certify(s0, s1, length) != Shape::NoRoot {
                     return false;
                 }
             }
@@ -520,44 +526,23 @@ impl<'a, T: Real> Walker<'a, T> {
         dir: T,
         depth: u32,
     ) -> Option<T> {
-        let zero = T::zero();
-        let length = (b - a) * dir;
-        let (convex0, convex1) = (s0.s >= zero, s1.s >= zero);
-        if !convex0 && !convex1 {
-            return None; // concave: the minimum is at an end
-        }
-        if convex0 && convex1 {
-            if s0.d >= zero || s1.d <= zero {
-                return None; // monotone toward the higher end
+        match certify(s0, s1, (b - a) * dir) {
+            Shape::NoRoot => None,
+            Shape::Convex => self.through_minimum(bits, k, kind, a, b, dir),
+            Shape::Inflection => {
+                // Halve: each half is certified or halved again.
+                let c = (a + b) / T::from_f64(2.0);
+                let sc = self.slack_at(bits, k, kind, c, dir)?;
+                if depth >= 40 || !finite(&sc) || !between(c, a, b) {
+                    return self.through_minimum(bits, k, kind, a, b, dir);
+                }
+                if sc.v <= T::zero() {
+                    return Some(self.locate(bits, k, kind, a, c, dir));
+                }
+                self.search(bits, k, kind, (a, s0), (c, sc), dir, depth + 1)
+                    .or_else(|| self.search(bits, k, kind, (c, sc), (b, s1), dir, depth + 1))
             }
-            // Both tangents lie below a convex function; they cross at t*.
-            let t = (s1.v - s1.d * length - s0.v) / (s0.d - s1.d);
-            if s0.v + s0.d * t > zero {
-                return None;
-            }
-            return self.through_minimum(bits, k, kind, a, b, dir);
         }
-        // One inflection: the convex part lies above the tangent at its end,
-        // the concave part above its end values.
-        let bound = if convex0 {
-            s0.v + if s0.d < zero { s0.d * length } else { zero }
-        } else {
-            s1.v - if s1.d > zero { s1.d * length } else { zero }
-        };
-        if bound > zero {
-            return None;
-        }
-        let c = bisect(a, b, |x| self.slack_at(bits, k, kind, x, dir).map(|s| s.s >= zero));
-        let margin = length * T::from_f64(1e-6);
-        let sc = self.slack_at(bits, k, kind, c, dir)?;
-        if depth >= 40 || (c - a).abs() <= margin || (b - c).abs() <= margin || !finite(&sc) {
-            return self.through_minimum(bits, k, kind, a, b, dir);
-        }
-        if sc.v <= zero {
-            return Some(self.locate(bits, k, kind, a, c, dir));
-        }
-        self.search(bits, k, kind, (a, s0), (c, sc), dir, depth + 1)
-            .or_else(|| self.search(bits, k, kind, (c, sc), (b, s1), dir, depth + 1))
     }
 
     /// The slack's minimum between a and b decides: above zero no root; at
@@ -597,6 +582,45 @@ impl<'a, T: Real> Walker<'a, T> {
     }
 }
 
+/// What the jets at the two ends of a gap say about a slack positive at both.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Shape {
+    /// It stays positive: concave (its minimum is at an end), monotone, or
+    /// above its end tangents.
+    NoRoot,
+    /// Convex with an inside minimum that the tangents cannot place above zero.
+    Convex,
+    /// Its curvature changes sign and the bounds do not decide.
+    Inflection,
+}
+
+/// Certify a slack over a gap of `length` from its jets `s0`, `s1` at the
+/// ends (slopes along the gap), assuming at most one inflection inside:
+/// a convex stretch lies above its tangents, a concave one above its chord.
+fn certify<T: Real>(s0: Jet<T>, s1: Jet<T>, length: T) -> Shape {
+    let zero = T::zero();
+    let (convex0, convex1) = (s0.s >= zero, s1.s >= zero);
+    if !convex0 && !convex1 {
+        return Shape::NoRoot;
+    }
+    if convex0 && convex1 {
+        if s0.d >= zero || s1.d <= zero {
+            return Shape::NoRoot; // monotone toward the higher end
+        }
+        // Both tangents lie below a convex function; they cross at t.
+        let t = (s1.v - s1.d * length - s0.v) / (s0.d - s1.d);
+        return if s0.v + s0.d * t > zero { Shape::NoRoot } else { Shape::Convex };
+    }
+    // One inflection: the convex part lies above the tangent at its end,
+    // the concave part above its end values.
+    let bound = if convex0 {
+        s0.v + if s0.d < zero { s0.d * length } else { zero }
+    } else {
+        s1.v - if s1.d > zero { s1.d * length } else { zero }
+    };
+    if bound > zero { Shape::NoRoot } else { Shape::Inflection }
+}
+
 /// Points from `from` toward `end`, ever closer to `end`: end − (end − from)·4^−i
 /// down to a distance `finest`, the nearest to `end` first.
 fn toward<T: Real>(end: T, from: T, finest: T) -> Vec<T> {
@@ -608,25 +632,6 @@ fn toward<T: Real>(end: T, from: T, finest: T) -> Vec<T> {
     }
     out.reverse();
     out
-}
-
-/// Bisection for the change of a predicate between a (where it has one
-/// value) and b (the other); an undefined point counts as b's side.
-fn bisect<T: Real>(mut a: T, mut b: T, f: impl Fn(T) -> Option<bool>) -> T {
-    let fa = f(a);
-    let two = T::from_f64(2.0);
-    for _ in 0..200 {
-        let m = (a + b) / two;
-        if !between(m, a, b) {
-            break;
-        }
-        if f(m).is_some() && f(m) == fa {
-            a = m;
-        } else {
-            b = m;
-        }
-    }
-    (a + b) / two
 }
 
 /// A root of g between a (g > 0) and b (g ≤ 0, or undefined): Newton steps
