@@ -295,22 +295,29 @@ impl<'a, T: Real> Walker<'a, T> {
         };
         let finest = T::from_f64(tolerance::ROOT_STEP * self.con.scale);
         // Samples still to visit, nearest last; refined where the jets disagree.
+        let approach = T::from_f64(tolerance::LAZY_APPROACH * self.con.scale);
         let mut pending: Vec<T> = (1..=m).rev().map(grid).collect();
         if !entering.is_empty() {
             // Steps after the entering one behave like square roots next to
             // `from`: approach it geometrically, where such a slack is well modelled.
             let first = grid(1);
-            pending.extend(toward(from.lambda, first, finest).into_iter().rev());
+            pending.extend(toward(from.lambda, first, approach).into_iter().rev());
         }
+        // Probes already made at pending points (kept when a gap is halved).
+        let mut made: Vec<Probe<T>> = Vec::new();
         // An end found inside a gap is accepted once the approach to it has
         // been sampled geometrically as well (later steps behave like square
         // roots next to it, and their jets say nothing there).
         let mut approaching: Option<(T, Vec<Event>)> = None;
         while let Some(x) = pending.pop() {
-            let right = self.probe(bits, x);
+            let right = match made.last() {
+                Some(p) if p.lambda == x => made.pop().expect("just seen"),
+                _ => self.probe(bits, x),
+            };
             if (x - near.lambda).abs() > finest && !self.well_sampled(&near, &right, dir) {
                 pending.push(x);
                 pending.push((near.lambda + x) * half);
+                made.push(right);
                 continue;
             }
             let found = self.scan_gap(bits, &near, &right, dir, &flat_at_near);
@@ -327,8 +334,9 @@ impl<'a, T: Real> Walker<'a, T> {
             match found {
                 Some((lambda, events)) => {
                     pending.clear();
+                    made.clear();
                     pending.push(lambda);
-                    pending.extend(toward(lambda, near.lambda, finest));
+                    pending.extend(toward(lambda, near.lambda, approach));
                     approaching = Some((lambda, events));
                     continue;
                 }
@@ -435,6 +443,10 @@ impl<'a, T: Real> Walker<'a, T> {
                 let s0 = self.slack(k, kind, near.d[k], dir);
                 let s1 = self.slack(k, kind, far.d[k], dir);
                 let entering = flat_at_near.contains(&Event { step: k, kind });
+                // Past a root found in this gap, later steps behave like square
+                // roots at its end: only their values count here (the caller
+                // samples the approach to that root).
+                let s1 = if shrunk.is_some() { Jet { d: T::from_f64(f64::NAN), ..s1 } } else { s1 };
                 let Some(root) = self.first_root(bits, k, kind, (near.lambda, s0), (far.lambda, s1), dir, entering)
                 else {
                     continue;
@@ -613,22 +625,25 @@ fn certify<T: Real>(s0: Jet<T>, s1: Jet<T>, length: T) -> Shape {
     }
     // One inflection: the convex part lies above the tangent at its end,
     // the concave part above its end values.
-    let bound = if convex0 {
-        s0.v + if s0.d < zero { s0.d * length } else { zero }
+    // A tangent that rises away from its end (s0 may be zero at an end the
+    // walk entered by) keeps the convex part positive beyond that end.
+    let positive = if convex0 {
+        s0.d > zero || s0.v + s0.d * length > zero
     } else {
-        s1.v - if s1.d > zero { s1.d * length } else { zero }
+        s1.d < zero || s1.v - s1.d * length > zero
     };
-    if bound > zero { Shape::NoRoot } else { Shape::Inflection }
+    if positive { Shape::NoRoot } else { Shape::Inflection }
 }
 
-/// Points from `from` toward `end`, ever closer to `end`: end − (end − from)·4^−i
+/// Points from `from` toward `end`, ever closer to `end`: end − (end − from)·8^−i
 /// down to a distance `finest`, the nearest to `end` first.
 fn toward<T: Real>(end: T, from: T, finest: T) -> Vec<T> {
     let mut out = Vec::new();
-    let mut offset = (from - end) / T::from_f64(4.0);
+    let ratio = T::from_f64(8.0);
+    let mut offset = (from - end) / ratio;
     while offset.abs() > finest && out.len() < 24 {
         out.push(end + offset);
-        offset = offset / T::from_f64(4.0);
+        offset = offset / ratio;
     }
     out.reverse();
     out

@@ -37,3 +37,10 @@ pub const EVENTS_COINCIDE: f64 = 1e-11;
 
 /// Intervals of the non-oriented Cayley space closer than this (× scale) are joined.
 pub const UNION_GAP: f64 = 1e-12;
+
+/// The lazy walk samples geometrically toward every interval end it finds
+/// (and away from the end it enters by), down to this distance (× scale):
+/// there the later steps behave like square roots and their derivatives
+/// say nothing. A dip of a later step's slack closer than this to an end is
+/// not looked for.
+pub const LAZY_APPROACH: f64 = 1e-7;
