@@ -3,10 +3,11 @@
 
 use std::time::Instant;
 
-use crate::cayley_space::{CayleySpace, Method, Note, cayley_space, union};
+use crate::cayley_space::{CayleySpace, Method, Note, OrientedInterval, cayley_space, union};
 use crate::complexity::{Complexity, four_cycle_test};
 use crate::decompose::{Decomposition, Outside, decompose};
 use crate::linkage::Linkage;
+use crate::lazy::{LazyOptions, component_through};
 use crate::motion::{Components, Realization, components, locate};
 use crate::real::{Dd, Jet, Real};
 use crate::realize::{Construction, Drawn, P2, Unrealizable, bar_residual, drawn_realization, to_display};
@@ -48,6 +49,26 @@ pub struct Accuracy {
 /// Scenes with more types than this skip the reference run in `analyse`.
 pub const REFERENCE_MAX_TYPES: usize = 1 << 12;
 
+/// Scenes with more construction steps than this (more than 2^16 types) get
+/// the lazy analysis unless the full one is asked for.
+pub const LAZY_ABOVE_STEPS: usize = 16;
+
+/// The lazy analysis checks itself against a double-double walk up to this
+/// many steps (the reference walk costs about ten f64 walks).
+pub const LAZY_REFERENCE_MAX_STEPS: usize = 128;
+
+/// How much of the realization space to compute.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Scope {
+    /// Every type when there are at most 2^[`LAZY_ABOVE_STEPS`], else lazy.
+    Auto,
+    /// Every type's intervals and every component, however many.
+    Full,
+    /// Only the component through the drawn realization (more on request,
+    /// see [`Solved::include`]).
+    Lazy,
+}
+
 /// A scene recognised as 1-dof tree-decomposable.
 #[derive(Debug, Clone)]
 pub struct Solved {
@@ -67,6 +88,64 @@ pub struct Solved {
     /// The oriented interval and component holding the drawn realization.
     pub drawn_interval: Option<usize>,
     pub drawn_component: Option<usize>,
+    /// Only the components through realizations asked for were computed
+    /// (`space` then holds their intervals, in walk order, and `union` is
+    /// their λ range, not the whole Cayley space).
+    pub lazy: bool,
+}
+
+impl Solved {
+    /// Make sure the component through `r` is known: in a lazy analysis it is
+    /// walked and added (existing interval and component indices stay valid).
+    /// Returns the interval holding `r`, or `None` if `r` has no realization.
+    pub fn include(&mut self, r: &Realization) -> Option<usize> {
+        let scale = self.construction.scale;
+        if let Some(i) = locate(&self.space, r, scale) {
+            return Some(i);
+        }
+        if !self.lazy || r.ty.0.len() != self.construction.steps.len() {
+            return None;
+        }
+        let jet = self.construction.convert::<Jet<f64>>();
+        let more = component_through(&self.construction, &jet, &r.ty, r.lambda, LazyOptions::default()).ok()?;
+        let offset = self.space.intervals.iter().map(|i| i.lower.id.max(i.upper.id)).max().unwrap_or(0);
+        for mut iv in more.intervals {
+            iv.lower.id += offset;
+            iv.upper.id += offset;
+            self.space.intervals.push(iv);
+        }
+        self.space.notes.extend(more.notes);
+        self.union = union(&self.space.intervals, scale);
+        self.components = components(&self.space);
+        locate(&self.space, r, scale)
+    }
+}
+
+/// The f64 and reference runs compared endpoint by endpoint (same order).
+fn compare_runs<R: Real>(reference: &[OrientedInterval<R>], space: &[OrientedInterval<f64>], scale: f64) -> Accuracy {
+    let same_structure = reference.len() == space.len() && reference.iter().zip(space).all(|(r, f)| r.ty == f.ty);
+    let mut worst: f64 = 0.0;
+    if same_structure {
+        for (r, f) in reference.iter().zip(space) {
+            for (x, y) in [(r.lower.lambda, f.lower.lambda), (r.upper.lambda, f.upper.lambda)] {
+                worst = worst.max((x - R::from_f64(y)).to_f64().abs());
+            }
+        }
+    }
+    Accuracy { max_endpoint_error: worst, max_relative_error: worst / scale, same_structure }
+}
+
+/// The lazy walk from the same start in double-double, compared with `space`.
+pub fn lazy_reference_accuracy(
+    linkage: &Linkage,
+    dec: &Decomposition,
+    drawn: &Drawn,
+    space: &CayleySpace<f64>,
+) -> Option<Accuracy> {
+    let con = Construction::<Dd>::new(linkage, dec).ok()?;
+    let jet = Construction::<Jet<Dd>>::new(linkage, dec).ok()?;
+    let reference = component_through(&con, &jet, &drawn.ty, Dd::new(drawn.lambda), LazyOptions::default()).ok()?;
+    Some(compare_runs(&reference.intervals, &space.intervals, linkage.scale))
 }
 
 /// Compute the Cayley space in double-double and compare it with `space`.
@@ -79,17 +158,7 @@ pub fn reference_accuracy(
     let con = Construction::<Dd>::new(linkage, dec).ok()?;
     let jet = Construction::<Jet<Dd>>::new(linkage, dec).ok()?;
     let reference = cayley_space(&con, jet, dec, cx, space.method);
-    let same_structure = reference.intervals.len() == space.intervals.len()
-        && reference.intervals.iter().zip(&space.intervals).all(|(r, f)| r.ty == f.ty);
-    let mut worst: f64 = 0.0;
-    if same_structure {
-        for (r, f) in reference.intervals.iter().zip(&space.intervals) {
-            for (x, y) in [(r.lower.lambda, f.lower.lambda), (r.upper.lambda, f.upper.lambda)] {
-                worst = worst.max((x - Dd::new(y)).to_f64().abs());
-            }
-        }
-    }
-    Some(Accuracy { max_endpoint_error: worst, max_relative_error: worst / linkage.scale, same_structure })
+    Some(compare_runs(&reference.intervals, &space.intervals, linkage.scale))
 }
 
 /// The λ of `ty` nearest to `lambda` (itself if realizable), from the type's intervals.
@@ -122,6 +191,11 @@ pub enum BaseSource {
 /// (an invalid base, contradictory stated lengths); a valid scene outside the
 /// handled class is an `Ok` whose `outcome` says why.
 pub fn analyse(scene: Scene, base_override: Option<[usize; 2]>) -> Result<Analysis, SceneError> {
+    analyse_with(scene, base_override, Scope::Auto)
+}
+
+/// [`analyse`] with the extent of the realization space chosen explicitly.
+pub fn analyse_with(scene: Scene, base_override: Option<[usize; 2]>, scope: Scope) -> Result<Analysis, SceneError> {
     let mut timings = Timings::default();
     let linkage = timings.time("linkage", || Linkage::from_scene(&scene));
     let (requested, source) = match (base_override, scene.base) {
@@ -157,11 +231,34 @@ pub fn analyse(scene: Scene, base_override: Option<[usize; 2]>) -> Result<Analys
             linkage.names[s.w]
         ));
     }
-    let space = timings.time("cayley_space", || {
-        cayley_space(&construction, construction.convert::<Jet<f64>>(), &dec, &complexity, Method::Exact)
-    });
+    let lazy = match scope {
+        Scope::Auto => dec.steps.len() > LAZY_ABOVE_STEPS,
+        Scope::Full => false,
+        Scope::Lazy => true,
+    };
+    let space = if lazy {
+        timings.time("lazy_component", || {
+            let jet = construction.convert::<Jet<f64>>();
+            component_through(&construction, &jet, &drawn.ty, drawn.lambda, LazyOptions::default()).unwrap_or_else(
+                |_| CayleySpace {
+                    intervals: Vec::new(),
+                    notes: Vec::new(),
+                    method: Method::Numeric { samples: LazyOptions::default().samples, tol: 0.0 },
+                    numeric_steps: Vec::new(),
+                },
+            )
+        })
+    } else {
+        timings.time("cayley_space", || {
+            cayley_space(&construction, construction.convert::<Jet<f64>>(), &dec, &complexity, Method::Exact)
+        })
+    };
     let union = union(&space.intervals, linkage.scale);
-    let accuracy = if space.intervals.len() <= REFERENCE_MAX_TYPES {
+    let accuracy = if lazy {
+        (dec.steps.len() <= LAZY_REFERENCE_MAX_STEPS && !space.intervals.is_empty())
+            .then(|| timings.time("reference", || lazy_reference_accuracy(&linkage, &dec, &drawn, &space)))
+            .flatten()
+    } else if space.intervals.len() <= REFERENCE_MAX_TYPES {
         timings.time("reference", || reference_accuracy(&linkage, &dec, &complexity, &space))
     } else {
         None
@@ -242,6 +339,7 @@ pub fn analyse(scene: Scene, base_override: Option<[usize; 2]>) -> Result<Analys
         components,
         drawn_interval,
         drawn_component,
+        lazy,
     };
     Ok(Analysis { scene, linkage, outcome: Ok(solved), warnings, timings })
 }

@@ -5,7 +5,7 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand, ValueEnum};
 
-use caymos::analysis::{Analysis, Solved, analyse};
+use caymos::analysis::{Analysis, Scope, Solved, analyse, analyse_with};
 use caymos::bundled;
 use caymos::commands;
 use caymos::report::Report;
@@ -65,9 +65,15 @@ enum Command {
         /// The base non-edge as two joint names, e.g. `--base P,X`.
         #[arg(long)]
         base: Option<String>,
-        /// List every oriented interval in the text report, however many.
+        /// The full analysis (every type, every component) and every oriented
+        /// interval in the text, however many. Without it, scenes with more
+        /// than 2^16 types get the lazy analysis (the drawn component only).
         #[arg(long)]
         all: bool,
+        /// The lazy analysis (the component through the drawn realization)
+        /// even for a small scene.
+        #[arg(long, conflicts_with = "all")]
+        lazy: bool,
     },
     /// List the bundled scenes.
     List,
@@ -201,10 +207,17 @@ fn run(command: Command) -> Result<u8, Failure> {
             }
             Ok(0)
         }
-        Command::Report { scene, format, base, all } => {
+        Command::Report { scene, format, base, all, lazy } => {
             let scene = bundled::resolve(scene.as_deref())?;
             let base = base.map(|b| parse_base(&scene, &b)).transpose()?;
-            let analysis = analyse(scene, base)?;
+            let scope = if all {
+                Scope::Full
+            } else if lazy {
+                Scope::Lazy
+            } else {
+                Scope::Auto
+            };
+            let analysis = analyse_with(scene, base, scope)?;
             let report = Report::new(&analysis);
             match format {
                 Format::Json => emit(&format!("{}\n", report.to_json())),
@@ -213,7 +226,8 @@ fn run(command: Command) -> Result<u8, Failure> {
             Ok(if report.one_dof_tree_decomposable { 0 } else { 2 })
         }
         Command::Path { scene, from, to, format, step } => {
-            let (a, s) = solved(scene.as_deref())?;
+            let (a, mut s) = solved(scene.as_deref())?;
+            include(&mut s, [from.as_str(), to.as_str()]);
             let step = positive_step(step, &a)?;
             let report = commands::path(&a, &s, &from, &to, step).map_err(arg_error)?;
             match format {
@@ -223,7 +237,8 @@ fn run(command: Command) -> Result<u8, Failure> {
             Ok(0)
         }
         Command::Trace { scene, component, from, to, arc, joints, step, cayley, output } => {
-            let (a, s) = solved(scene.as_deref())?;
+            let (a, mut s) = solved(scene.as_deref())?;
+            include(&mut s, [from.as_deref().unwrap_or("drawn"), to.as_deref().unwrap_or("drawn")]);
             let step = positive_step(step, &a)?;
             let joints = commands::parse_joints(&a, joints.as_deref()).map_err(arg_error)?;
             let between = from.as_deref().zip(to.as_deref()).map(|(f, t)| (f, t, arc));
@@ -309,6 +324,15 @@ fn emit(text: &str) {
         }
         eprintln!("caymos: cannot write output: {e}");
         std::process::exit(1);
+    }
+}
+
+/// In a lazy analysis, walk the components through the named realizations too.
+fn include(s: &mut Solved, specs: [&str; 2]) {
+    for spec in specs {
+        if let Ok(r) = caymos::motion::Realization::parse(spec) {
+            s.include(&r);
+        }
     }
 }
 

@@ -73,6 +73,17 @@ pub struct SketchReport {
     pub max_joint_move: f64,
 }
 
+/// A type for a text table: long ones (many steps) keep their ends.
+pub fn short_type(ty: &str) -> String {
+    let n = ty.chars().count();
+    if n <= 40 {
+        return ty.to_string();
+    }
+    let head: String = ty.chars().take(16).collect();
+    let tail: String = ty.chars().skip(n - 8).collect();
+    format!("{head}…{tail} ({n} signs)")
+}
+
 /// Everything `report` prints; the JSON form is this struct.
 #[derive(Debug, Clone, Serialize)]
 pub struct Report {
@@ -95,7 +106,11 @@ pub struct Report {
     pub complete_cayley_vector: Vec<[String; 2]>,
     pub drawn: Option<DrawnReport>,
     pub sketch: Option<SketchReport>,
-    /// The non-oriented Cayley configuration space: disjoint closed intervals.
+    /// `full` (every type) or `lazy` (only the component through the drawn
+    /// realization: the scene has more than 2^16 types; `--all` forces full).
+    pub analysis: &'static str,
+    /// The non-oriented Cayley configuration space: disjoint closed intervals
+    /// (in a lazy analysis: the λ range of the components computed).
     pub cayley_space: Vec<[f64; 2]>,
     pub oriented_intervals: Vec<IntervalReport>,
     /// `exact` (closed form, LCC) or `numeric`; steps searched numerically.
@@ -134,6 +149,7 @@ impl Report {
             complete_cayley_vector: Vec::new(),
             drawn: None,
             sketch: None,
+            analysis: "full",
             cayley_space: Vec::new(),
             oriented_intervals: Vec::new(),
             endpoint_method: None,
@@ -194,8 +210,17 @@ impl Report {
                         upper_events: i.upper.events.iter().map(event).collect(),
                     })
                     .collect();
-                r.endpoint_method = Some(if s.space.numeric_steps.is_empty() { "exact" } else { "exact+numeric" });
-                r.numeric_steps = s.space.numeric_steps.clone();
+                r.analysis = if s.lazy { "lazy" } else { "full" };
+                r.endpoint_method = Some(if s.lazy {
+                    "lazy"
+                } else if s.space.numeric_steps.is_empty() {
+                    "exact"
+                } else {
+                    "exact+numeric"
+                });
+                if !s.lazy {
+                    r.numeric_steps = s.space.numeric_steps.clone();
+                }
                 r.components = s
                     .components
                     .list
@@ -288,9 +313,14 @@ impl Report {
         };
         let _ = writeln!(o, "{:<24}{lcc}", "Low Cayley complexity");
         let ccv: Vec<String> = self.complete_cayley_vector.iter().map(|[a, b]| format!("{a}–{b}")).collect();
-        let _ = writeln!(o, "{:<24}{}", "Complete Cayley vector", ccv.join(", "));
+        let ccv = if ccv.len() > 16 {
+            format!("{}, …, {} ({} pairs)", ccv[..8].join(", "), ccv[ccv.len() - 4..].join(", "), ccv.len())
+        } else {
+            ccv.join(", ")
+        };
+        let _ = writeln!(o, "{:<24}{ccv}", "Complete Cayley vector");
         if let Some(d) = &self.drawn {
-            let _ = writeln!(o, "{:<24}λ = {}  type {}", "Drawn realization", fmt_num(d.lambda), d.ty);
+            let _ = writeln!(o, "{:<24}λ = {}  type {}", "Drawn realization", fmt_num(d.lambda), short_type(&d.ty));
         }
         if let Some(s) = &self.sketch {
             let moved = if s.max_joint_move.is_finite() {
@@ -314,14 +344,24 @@ impl Report {
     fn write_cayley_space(&self, o: &mut String, all: bool) {
         let spans: Vec<String> =
             self.cayley_space.iter().map(|[a, b]| format!("[{}, {}]", fmt_num(*a), fmt_num(*b))).collect();
+        let n_types = 1usize.checked_shl(self.steps.len() as u32).unwrap_or(usize::MAX);
+        let n_types_text = if n_types == usize::MAX { format!("2^{}", self.steps.len()) } else { n_types.to_string() };
+        let lazy = self.analysis == "lazy";
+        if lazy {
+            let _ = writeln!(
+                o,
+                "{:<24}lazy: only the component through the drawn realization ({n_types_text} types not enumerated; --all forces the full analysis)",
+                "Analysis"
+            );
+        }
         let _ = writeln!(
             o,
             "{:<24}{}",
-            "Cayley space",
+            if lazy { "Component spans" } else { "Cayley space" },
             if spans.is_empty() { "empty: no realization".into() } else { spans.join(" ∪ ") }
         );
-        let n_types = 1usize.checked_shl(self.steps.len() as u32).unwrap_or(usize::MAX);
         let mut types: Vec<&str> = self.oriented_intervals.iter().map(|i| i.ty.as_str()).collect();
+        types.sort_unstable();
         types.dedup();
         let _ = writeln!(
             o,
@@ -329,9 +369,10 @@ impl Report {
             "Oriented intervals",
             self.oriented_intervals.len(),
             types.len(),
-            if n_types == usize::MAX { format!("2^{}", self.steps.len()) } else { n_types.to_string() },
+            n_types_text,
             match self.endpoint_method {
                 Some("exact") => "endpoints in closed form".to_string(),
+                Some("lazy") => "endpoints by the lazy walk, Newton to full precision".to_string(),
                 _ => format!(
                     "closed form, and numeric search for steps {}",
                     self.numeric_steps.iter().map(|k| (k + 1).to_string()).collect::<Vec<_>>().join(", ")
@@ -375,7 +416,7 @@ impl Report {
             .iter()
             .map(|i| {
                 [
-                    i.ty.clone(),
+                    short_type(&i.ty),
                     fmt_num(i.lower),
                     fmt_num(i.upper),
                     ev(&i.lower_event, &i.lower_events),
@@ -402,7 +443,8 @@ impl Report {
             .iter()
             .enumerate()
             .map(|(k, c)| {
-                let types: Vec<&str> = c.intervals.iter().map(|&i| self.oriented_intervals[i].ty.as_str()).collect();
+                let types: Vec<String> =
+                    c.intervals.iter().map(|&i| short_type(&self.oriented_intervals[i].ty)).collect();
                 let shown = if types.len() > 6 {
                     format!("{} … ({} more)", types[..6].join(" "), types.len() - 6)
                 } else {

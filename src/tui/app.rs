@@ -489,9 +489,13 @@ impl Model {
 
     /// `λ` (in the current component, nearest occurrence) or `TYPE@λ`.
     pub fn go_to(&mut self, text: &str) -> Result<(), String> {
-        let s = &self.solved;
         let scale = self.analysis.linkage.scale;
         if text.contains('@') || text == "drawn" {
+            if let Ok(r) = crate::motion::Realization::parse(text) {
+                // A lazy analysis walks the component through r on first visit.
+                self.solved.include(&r);
+            }
+            let s = &self.solved;
             let (r, i) = commands::resolve_realization(&self.analysis, s, text)?;
             let k = s.components.of_interval[i];
             self.enter_component(k, Some((i, r.lambda)));
@@ -528,7 +532,10 @@ impl Model {
             let mut positions = Vec::new();
             let mut cayley = Vec::new();
             let mut types = Vec::new();
-            for sm in Stepper::new(&self.solved.construction, &a.linkage, self.segments.clone(), bound).take(20_000) {
+            // Keep a motion's samples to a few million numbers on huge scenes.
+            let per_sample = a.linkage.n_joints() + self.solved.complexity.ccv.len();
+            let limit = (4_000_000 / per_sample.max(1)).clamp(500, 20_000);
+            for sm in Stepper::new(&self.solved.construction, &a.linkage, self.segments.clone(), bound).take(limit) {
                 cayley.push(cayley_vector(&sm.positions, &self.solved.complexity.ccv));
                 types.push(sm.ty);
                 positions.push(sm.positions);
@@ -550,7 +557,8 @@ impl Model {
         };
         self.positions.iter().for_each(&mut add);
         let segs = component_segments(&self.solved.space, &self.solved.components.list[self.component]);
-        for sm in Stepper::new(&self.solved.construction, &a.linkage, segs, a.linkage.scale / 20.0).take(5000) {
+        let limit = (2_000_000 / a.linkage.n_joints().max(1)).clamp(200, 5000);
+        for sm in Stepper::new(&self.solved.construction, &a.linkage, segs, a.linkage.scale / 20.0).take(limit) {
             sm.positions.iter().for_each(&mut add);
         }
         b
