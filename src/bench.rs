@@ -12,6 +12,7 @@ use serde::Serialize;
 use crate::analysis::{Analysis, Solved};
 use crate::cayley_space::{Method, cayley_space};
 use crate::invert::Inverter;
+use crate::lazy::{LazyOptions, component_through};
 use crate::motion::{Stepper, component_segments, realization_at};
 use crate::real::{Dd, Jet, Real};
 use crate::realize::{Construction, RealizationType, bar_residual};
@@ -46,11 +47,68 @@ pub struct StepRow {
     pub max_bar_residual: f64,
 }
 
+/// The lazy walk on a generated family member (`caymos bench --scaling`).
+#[derive(Debug, Clone, Serialize)]
+pub struct ScalingRow {
+    pub family: String,
+    pub steps: usize,
+    pub joints: usize,
+    /// Intervals in the drawn realization's component.
+    pub intervals: usize,
+    /// Recognition, base and construction steps.
+    pub decompose_ms: f64,
+    /// The lazy walk of the drawn component.
+    pub lazy_ms: f64,
+    /// lazy_ms per step and per interval, in µs: flat when the walk is linear.
+    pub us_per_step_interval: f64,
+    /// Largest endpoint error against the same walk in double-double
+    /// (relative; `None` above [`crate::analysis::LAZY_REFERENCE_MAX_STEPS`] steps).
+    pub max_endpoint_error: Option<f64>,
+}
+
 #[derive(Debug, Clone, Serialize)]
 pub struct BenchReport {
     pub repeat: usize,
     pub methods: Vec<MethodRow>,
     pub stepping: Vec<StepRow>,
+    pub scaling: Vec<ScalingRow>,
+}
+
+/// The generated families of the scaling curve: chains of four-cycles and
+/// Strandbeests with more legs on one crank.
+pub fn scaling_scenes() -> Vec<(String, crate::scene::Scene)> {
+    let chains = [10, 30, 100, 300, 1000].map(|n| ("chain".to_string(), crate::generate::chain(n)));
+    let beests = [1, 3, 6, 12].map(|n| ("strandbeest".to_string(), crate::generate::strandbeest(n)));
+    chains.into_iter().chain(beests).collect()
+}
+
+/// Time the lazy walk of the drawn component of one generated scene.
+pub fn scaling_row(family: &str, scene: crate::scene::Scene, repeat: usize) -> Option<ScalingRow> {
+    let linkage = crate::linkage::Linkage::from_scene(&scene);
+    let requested = scene.base.map(|b| b.0);
+    let (decompose_us, dec) = median_us(repeat, || crate::decompose::decompose(&linkage, requested));
+    let dec = dec.ok()?.ok()?;
+    let con = Construction::<f64>::new(&linkage, &dec).ok()?;
+    let jet = con.convert::<Jet<f64>>();
+    let drawn = crate::realize::drawn_realization(&linkage, &dec);
+    let walk = || component_through(&con, &jet, &drawn.ty, drawn.lambda, LazyOptions::default());
+    let (lazy_us, space) = median_us(repeat, walk);
+    let space = space.ok()?;
+    let max_endpoint_error = (dec.steps.len() <= crate::analysis::LAZY_REFERENCE_MAX_STEPS)
+        .then(|| crate::analysis::lazy_reference_accuracy(&linkage, &dec, &drawn, &space))
+        .flatten()
+        .map(|a| if a.same_structure { a.max_relative_error } else { f64::INFINITY });
+    let n = dec.steps.len();
+    Some(ScalingRow {
+        family: family.to_string(),
+        steps: n,
+        joints: linkage.n_joints(),
+        intervals: space.intervals.len(),
+        decompose_ms: decompose_us / 1e3,
+        lazy_ms: lazy_us / 1e3,
+        us_per_step_interval: lazy_us / (n * space.intervals.len().max(1)) as f64,
+        max_endpoint_error,
+    })
 }
 
 /// Median wall time of `f` in microseconds over `repeat` runs after one warm-up.
@@ -145,6 +203,27 @@ pub fn bench_scene(a: &Analysis, s: &Solved, repeat: usize) -> (Vec<MethodRow>, 
     let name = a.scene.name.clone();
     let con = &s.construction;
     let jet = con.convert::<Jet<f64>>();
+    if s.lazy {
+        // Too many types to enumerate: only the lazy walk, against its double-double twin.
+        let (t, walked) =
+            median_us(repeat, || component_through(con, &jet, &s.drawn.ty, s.drawn.lambda, LazyOptions::default()));
+        let accuracy = walked
+            .as_ref()
+            .ok()
+            .and_then(|w| crate::analysis::lazy_reference_accuracy(&a.linkage, &s.dec, &s.drawn, w));
+        let n = walked.map_or(0, |w| w.intervals.len());
+        let row = MethodRow {
+            scene: name,
+            method: "lazy walk (drawn component only)".into(),
+            median_us: t,
+            intervals: n,
+            reference_intervals: n,
+            max_endpoint_error: accuracy.as_ref().map_or(f64::NAN, |a| a.max_relative_error),
+            missed: usize::from(accuracy.is_some_and(|a| !a.same_structure)),
+            spurious: 0,
+        };
+        return (vec![row], Vec::new());
+    }
     let reference = {
         let dd = Construction::<Dd>::new(&a.linkage, &s.dec).expect("shapes close in f64, so in dd");
         let jd = Construction::<Jet<Dd>>::new(&a.linkage, &s.dec).expect("as above");
@@ -177,6 +256,35 @@ pub fn bench_scene(a: &Analysis, s: &Solved, repeat: usize) -> (Vec<MethodRow>, 
     let (t, classic) = median_us(repeat, || classic_space(con, s));
     if let Some(got) = classic {
         rows.push(row("classic (midpoints, abs tol 1e-4)".into(), t, &got));
+    }
+    // The lazy walk computes one component: compare it with the reference
+    // intervals of the same component (the exhaustive run's drawn component).
+    if let (false, Some(k)) = (s.lazy, s.drawn_component) {
+        let component: Vec<Span> = s.components.list[k]
+            .intervals
+            .iter()
+            .map(|&i| &s.space.intervals[i])
+            .map(|iv| (iv.ty.clone(), iv.lower.lambda, iv.upper.lambda))
+            .collect();
+        let overlaps = |(t, a, b): &Span, (u, c, d): &Span| t == u && a <= d && c <= b;
+        let reference_component: Vec<Span> =
+            reference.iter().filter(|r| component.iter().any(|c| overlaps(r, c))).cloned().collect();
+        let (t, walked) =
+            median_us(repeat, || component_through(con, &jet, &s.drawn.ty, s.drawn.lambda, LazyOptions::default()));
+        if let Ok(walked) = walked {
+            let got = spans(&walked);
+            let (max_endpoint_error, missed, spurious) = compare(&got, &reference_component, scale);
+            rows.push(MethodRow {
+                scene: name.clone(),
+                method: "lazy walk (drawn component only)".into(),
+                median_us: t,
+                intervals: got.len(),
+                reference_intervals: reference_component.len(),
+                max_endpoint_error,
+                missed,
+                spurious,
+            });
+        }
     }
     let mut steps = Vec::new();
     let k = s.drawn_component.unwrap_or(0);
@@ -254,6 +362,30 @@ impl BenchReport {
             })
             .collect();
         write_table(&mut o, &["scene", "step", "time µs", "samples", "chord error", "bar residual"], &rows);
+        if !self.scaling.is_empty() {
+            o.push_str("\nLazy walk of the drawn component on generated families (median times)\n");
+            let rows: Vec<[String; 8]> = self
+                .scaling
+                .iter()
+                .map(|r| {
+                    [
+                        r.family.clone(),
+                        r.steps.to_string(),
+                        r.joints.to_string(),
+                        r.intervals.to_string(),
+                        fmt_num(r.decompose_ms),
+                        fmt_num(r.lazy_ms),
+                        fmt_num(r.us_per_step_interval),
+                        r.max_endpoint_error.map_or("-".into(), fmt_sci),
+                    ]
+                })
+                .collect();
+            write_table(
+                &mut o,
+                &["family", "steps", "joints", "intervals", "decompose ms", "lazy ms", "µs/(step·interval)", "error"],
+                &rows,
+            );
+        }
         o
     }
 

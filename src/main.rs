@@ -133,6 +133,9 @@ enum Command {
         /// Timed repetitions after a warm-up (the median is reported).
         #[arg(long, default_value_t = 5)]
         repeat: usize,
+        /// Also the lazy walk on generated chains (10…1000 steps) and Strandbeests (1…12 legs).
+        #[arg(long)]
+        scaling: bool,
     },
     /// Write a generated scene (TOML) for scaling experiments.
     Generate {
@@ -264,7 +267,7 @@ fn run(command: Command) -> Result<u8, Failure> {
             }
             Ok(0)
         }
-        Command::Bench { scenes, format, repeat } => {
+        Command::Bench { scenes, format, repeat, scaling } => {
             let mut inputs: Vec<caymos::scene::Scene> = Vec::new();
             if scenes.is_empty() {
                 for b in bundled::BUNDLED {
@@ -279,13 +282,19 @@ fn run(command: Command) -> Result<u8, Failure> {
                     }
                 }
             }
-            let mut report = caymos::bench::BenchReport { repeat, methods: Vec::new(), stepping: Vec::new() };
+            let mut report =
+                caymos::bench::BenchReport { repeat, methods: Vec::new(), stepping: Vec::new(), scaling: Vec::new() };
             for scene in inputs {
                 let analysis = analyse(scene, None)?;
                 let Ok(solved) = analysis.outcome.clone() else { continue };
                 let (m, s) = caymos::bench::bench_scene(&analysis, &solved, repeat);
                 report.methods.extend(m);
                 report.stepping.extend(s);
+            }
+            if scaling {
+                for (family, scene) in caymos::bench::scaling_scenes() {
+                    report.scaling.extend(caymos::bench::scaling_row(&family, scene, repeat));
+                }
             }
             match format {
                 Format::Json => emit(&format!("{}\n", serde_json::to_string_pretty(&report).expect("serializes"))),
