@@ -6,8 +6,8 @@ use std::time::Instant;
 use crate::cayley_space::{CayleySpace, Method, Note, OrientedInterval, cayley_space, union};
 use crate::complexity::{Complexity, four_cycle_test};
 use crate::decompose::{Decomposition, Outside, decompose};
-use crate::linkage::Linkage;
 use crate::lazy::{LazyOptions, component_through};
+use crate::linkage::Linkage;
 use crate::motion::{Components, Realization, components, locate};
 use crate::real::{Dd, Jet, Real};
 use crate::realize::{Construction, Drawn, P2, Unrealizable, bar_residual, drawn_realization, to_display};
@@ -89,8 +89,8 @@ pub struct Solved {
     pub drawn_interval: Option<usize>,
     pub drawn_component: Option<usize>,
     /// Only the components through realizations asked for were computed
-    /// (`space` then holds their intervals, in walk order, and `union` is
-    /// their λ range, not the whole Cayley space).
+    /// (`space` then holds their intervals, each component's sorted by type,
+    /// and `union` is their λ range, not the whole Cayley space).
     pub lazy: bool,
 }
 

@@ -320,7 +320,9 @@ impl<T: Real> Sweep<'_, T> {
     /// that is another type's root would pass.
     fn brackets_root(&self, k: usize, bits: &[bool], lambda: T, g: Jet<T>, t: T) -> bool {
         let step = g.v / g.d;
-        if !(step.abs() <= T::from_f64(tolerance::ROOT_STEP * self.con.scale)) {
+        // NaN (a zero slope) fails this test too.
+        let small = step.abs().partial_cmp(&T::from_f64(tolerance::ROOT_STEP * self.con.scale));
+        if !matches!(small, Some(Ordering::Less | Ordering::Equal)) {
             return false;
         }
         let beyond = lambda - step - step;

@@ -406,10 +406,12 @@ pub fn steps_from_base(clusters: &ClusterSet, n_joints: usize, f: [usize; 2]) ->
     let mut placed_at = vec![usize::MAX; n_joints];
     placed_at[a] = 0;
     placed_at[b] = 0;
-    let live = |alive: &[bool], j: usize| clusters.by_joint[j].iter().copied().filter(|&c| alive[c]).collect::<Vec<_>>();
+    let live =
+        |alive: &[bool], j: usize| clusters.by_joint[j].iter().copied().filter(|&c| alive[c]).collect::<Vec<_>>();
     let joints = |c: usize| clusters.nodes[c].joints.as_slice();
-    let shared_with_built =
-        |placed_at: &[usize], c: usize| joints(c).iter().copied().filter(|&j| placed_at[j] != usize::MAX).collect::<Vec<_>>();
+    let shared_with_built = |placed_at: &[usize], c: usize| {
+        joints(c).iter().copied().filter(|&j| placed_at[j] != usize::MAX).collect::<Vec<_>>()
+    };
     let mut steps = Vec::new();
     // (key, p, y, z, q, r): triangle built–y–z with p = built ∩ y, q = y ∩ z, r = built ∩ z.
     type Candidate = ((usize, usize, usize), usize, usize, usize, usize, usize);

@@ -47,8 +47,8 @@ impl Default for LazyOptions {
     }
 }
 
-/// The oriented intervals of the component through `(ty, lambda)`, in walk
-/// order, with shared endpoint ids exactly as the exhaustive sweep gives them
+/// The oriented intervals of the component through `(ty, lambda)`, sorted by
+/// type then λ, with shared endpoint ids exactly as the exhaustive sweep gives them
 /// (so [`crate::motion::components`] on the result finds this component).
 /// Errors when the start itself has no realization.
 pub fn component_through<T: Real>(
@@ -60,7 +60,12 @@ pub fn component_through<T: Real>(
 ) -> Result<CayleySpace<T>, Unrealizable> {
     con.realize(lambda, ty)?;
     let mut walker = Walker::new(con, jet, options);
-    let intervals = walker.component(ty, lambda);
+    let mut intervals = walker.component(ty, lambda);
+    // Sorted as the exhaustive sweep sorts, so that the component's traversal
+    // starts (and turns) the same way: from its least type's interval, upward.
+    intervals.sort_by(|a, b| {
+        a.ty.cmp(&b.ty).then(a.lower.lambda.partial_cmp(&b.lower.lambda).unwrap_or(std::cmp::Ordering::Equal))
+    });
     let mut notes = walker.notes;
     notes.dedup();
     Ok(CayleySpace {
@@ -627,11 +632,8 @@ fn certify<T: Real>(s0: Jet<T>, s1: Jet<T>, length: T) -> Shape {
     // the concave part above its end values.
     // A tangent that rises away from its end (s0 may be zero at an end the
     // walk entered by) keeps the convex part positive beyond that end.
-    let positive = if convex0 {
-        s0.d > zero || s0.v + s0.d * length > zero
-    } else {
-        s1.d < zero || s1.v - s1.d * length > zero
-    };
+    let positive =
+        if convex0 { s0.d > zero || s0.v + s0.d * length > zero } else { s1.d < zero || s1.v - s1.d * length > zero };
     if positive { Shape::NoRoot } else { Shape::Inflection }
 }
 

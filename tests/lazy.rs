@@ -1,11 +1,11 @@
 //! Issue 6: the lazy component walk equals the exhaustive sweep's component.
 
-use caymos::analysis::{Solved, analyse};
+use caymos::analysis::{LAZY_ABOVE_STEPS, Scope, Solved, analyse, analyse_with};
 use caymos::bundled;
 use caymos::cayley_space::CayleySpace;
-use caymos::generate::{hard_cases, random_linkage};
+use caymos::generate::{chain, hard_cases, random_linkage, strandbeest, to_toml};
 use caymos::lazy::{LazyOptions, component_through};
-use caymos::motion::{Component, components};
+use caymos::motion::{Component, Realization, components};
 use caymos::real::Jet;
 use caymos::scene::Scene;
 use proptest::prelude::*;
@@ -95,4 +95,86 @@ proptest! {
         let scene = random_linkage(seed, steps, tri);
         check_scene(scene).map_err(TestCaseError::fail)?;
     }
+}
+
+#[test]
+fn analyse_goes_lazy_above_2_pow_16_types_and_says_so() {
+    for scene in [chain(LAZY_ABOVE_STEPS + 4), strandbeest(12)] {
+        let name = scene.name.clone();
+        let a = analyse(scene, None).unwrap();
+        let s = a.outcome.unwrap();
+        assert!(s.dec.steps.len() > LAZY_ABOVE_STEPS, "{name}");
+        assert!(s.lazy, "{name}");
+        let k = s.drawn_component.expect("the drawn realization lies on its component");
+        let c = &s.components.list[k];
+        assert!(c.closed, "{name}: the walked component is a closed cycle");
+        assert_eq!(s.components.list.len(), 1, "{name}: only the drawn component is computed");
+        // Every interval's realizations meet every bar, at both ends and inside.
+        for &i in &c.intervals {
+            let iv = &s.space.intervals[i];
+            for l in [iv.lower.lambda, 0.5 * (iv.lower.lambda + iv.upper.lambda), iv.upper.lambda] {
+                let pos =
+                    s.construction.realize(l, &iv.ty).unwrap_or_else(|e| panic!("{name}: {} at {l}: {e:?}", iv.ty));
+                let r = caymos::realize::bar_residual(&a.linkage, &pos);
+                assert!(r <= 1e-9 * a.linkage.scale, "{name}: residual {r}");
+            }
+        }
+        let r = caymos::report::Report::new(&analyse(strandbeest(2), None).unwrap());
+        assert_eq!(r.analysis, "full");
+    }
+}
+
+#[test]
+fn lazy_scope_equals_full_scope_and_include_walks_other_components() {
+    for name in ["jansen", "limacon", "fourbar-non-grashof"] {
+        let full = analyse_with(bundled::load(name).unwrap(), None, Scope::Full).unwrap().outcome.unwrap();
+        let mut lazy = analyse_with(bundled::load(name).unwrap(), None, Scope::Lazy).unwrap().outcome.unwrap();
+        assert!(lazy.lazy && !full.lazy);
+        assert_eq!(lazy.components.list.len(), 1);
+        let (kf, kl) = (full.drawn_component.unwrap(), lazy.drawn_component.unwrap());
+        same_cycle(&walk(&lazy.space, &lazy.components.list[kl]), &walk(&full.space, &full.components.list[kf]), 1e-9)
+            .unwrap_or_else(|e| panic!("{name}: {e}"));
+        // Ask for a realization in every other component: each is walked once and matches.
+        for (k, c) in full.components.list.iter().enumerate() {
+            let iv = &full.space.intervals[c.intervals[0]];
+            let r = Realization { ty: iv.ty.clone(), lambda: 0.5 * (iv.lower.lambda + iv.upper.lambda) };
+            let i = lazy.include(&r).unwrap_or_else(|| panic!("{name}: component {k} not walked"));
+            let lc = &lazy.components.list[lazy.components.of_interval[i]];
+            same_cycle(&walk(&lazy.space, lc), &walk(&full.space, c), 1e-9)
+                .unwrap_or_else(|e| panic!("{name}: component {k}: {e}"));
+        }
+        assert_eq!(lazy.components.list.len(), full.components.list.len(), "{name}");
+        // The drawn component keeps its index as components are added.
+        assert_eq!(lazy.drawn_component, Some(kl));
+        // A type with no realization there is reported as such, not walked.
+        let bad = Realization { ty: lazy.drawn.ty.clone(), lambda: 1e6 };
+        assert_eq!(lazy.include(&bad), None);
+    }
+}
+
+#[test]
+fn report_cli_says_which_analysis_it_did() {
+    let dir = std::env::temp_dir().join(format!("caymos-lazy-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("chain-40.toml");
+    std::fs::write(&file, to_toml(&chain(40))).unwrap();
+    let run = |args: &[&str]| {
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_caymos")).args(args).output().unwrap();
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        out.stdout
+    };
+    let json: serde_json::Value =
+        serde_json::from_slice(&run(&["report", file.to_str().unwrap(), "--format", "json"])).unwrap();
+    assert_eq!(json["analysis"], "lazy");
+    assert_eq!(json["endpoint_method"], "lazy");
+    assert_eq!(json["components"].as_array().unwrap().len(), 1);
+    assert!(json["accuracy"]["max_relative_error_estimate"].as_f64().unwrap() < 1e-12);
+    let text = String::from_utf8(run(&["report", file.to_str().unwrap()])).unwrap();
+    assert!(text.contains("lazy: only the component through the drawn realization"), "{text}");
+    let small: serde_json::Value =
+        serde_json::from_slice(&run(&["report", "jansen", "--lazy", "--format", "json"])).unwrap();
+    assert_eq!(small["analysis"], "lazy");
+    let full: serde_json::Value = serde_json::from_slice(&run(&["report", "jansen", "--format", "json"])).unwrap();
+    assert_eq!(full["analysis"], "full");
+    std::fs::remove_dir_all(&dir).ok();
 }
