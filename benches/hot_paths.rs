@@ -1,0 +1,54 @@
+//! `cargo bench`: the hot paths, measured by criterion (kept out of `cargo test`).
+//! One realization, the full Cayley space of the Jansen leg, one component
+//! walk (exhaustive linking and the lazy walk), one trace.
+
+use std::hint::black_box;
+
+use caymos::analysis::{Scope, analyse_with};
+use caymos::cayley_space::{Method, cayley_space};
+use caymos::lazy::{LazyOptions, component_through};
+use caymos::motion::{Stepper, component_segments, components};
+use caymos::real::Jet;
+use criterion::{Criterion, criterion_group, criterion_main};
+
+fn hot_paths(c: &mut Criterion) {
+    let scene = caymos::bundled::load("jansen").expect("bundled");
+    let a = analyse_with(scene, None, Scope::Full).expect("analyses");
+    let s = a.outcome.clone().expect("in class");
+    let con = &s.construction;
+    let jet = con.convert::<Jet<f64>>();
+    let k = s.drawn_component.expect("drawn component");
+
+    c.bench_function("realize one Jansen realization", |b| {
+        b.iter(|| con.realize(black_box(s.drawn.lambda), black_box(&s.drawn.ty)))
+    });
+    c.bench_function("Jansen full Cayley space (exact)", |b| {
+        b.iter(|| cayley_space(con, jet.clone(), &s.dec, &s.complexity, black_box(Method::Exact)))
+    });
+    c.bench_function("Jansen components from the Cayley space", |b| b.iter(|| components(black_box(&s.space))));
+    c.bench_function("Jansen lazy walk of the drawn component", |b| {
+        b.iter(|| component_through(con, &jet, &s.drawn.ty, black_box(s.drawn.lambda), LazyOptions::default()))
+    });
+    let segments = component_segments(&s.space, &s.components.list[k]);
+    let step = a.linkage.scale / 100.0;
+    c.bench_function("Jansen trace of the drawn component (1% steps)", |b| {
+        b.iter(|| Stepper::new(con, &a.linkage, segments.clone(), black_box(step)).count())
+    });
+
+    let chain = caymos::generate::chain(100);
+    let ca = analyse_with(chain, None, Scope::Lazy).expect("analyses");
+    let cs = ca.outcome.expect("in class");
+    let cjet = cs.construction.convert::<Jet<f64>>();
+    c.bench_function("100-step chain lazy walk of the drawn component", |b| {
+        b.iter(|| {
+            component_through(&cs.construction, &cjet, &cs.drawn.ty, black_box(cs.drawn.lambda), LazyOptions::default())
+        })
+    });
+}
+
+criterion_group! {
+    name = benches;
+    config = Criterion::default().sample_size(20);
+    targets = hot_paths
+}
+criterion_main!(benches);
