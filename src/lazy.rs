@@ -76,6 +76,16 @@ pub fn component_through<T: Real>(
     })
 }
 
+/// One step's slack of one kind, for one type, along one direction of walk.
+#[derive(Clone, Copy)]
+struct Along<'b, T> {
+    bits: &'b [bool],
+    k: usize,
+    kind: Kind,
+    /// ±1: slopes are taken along the walk.
+    dir: T,
+}
+
 /// Base-distance jets of every step realized at λ (up to and including the
 /// first that cannot close).
 struct Probe<T> {
@@ -167,10 +177,10 @@ impl<'a, T: Real> Walker<'a, T> {
     }
 
     /// Step k's slack at λ alone (realizing only the steps before it).
-    fn slack_at(&self, bits: &[bool], k: usize, kind: Kind, lambda: T, dir: T) -> Option<Jet<T>> {
-        let pos = self.jet.realize_prefix(Jet::variable(lambda), bits, k).ok()?;
-        let d = self.jet.base_distance(&pos, k);
-        d.v.to_f64().is_finite().then(|| self.slack(k, kind, d, dir))
+    fn slack_at(&self, s: Along<T>, lambda: T) -> Option<Jet<T>> {
+        let pos = self.jet.realize_prefix(Jet::variable(lambda), s.bits, s.k).ok()?;
+        let d = self.jet.base_distance(&pos, s.k);
+        d.v.to_f64().is_finite().then(|| self.slack(s.k, s.kind, d, s.dir))
     }
 
     /// The whole component through (ty, λ): its start interval, then the
@@ -452,8 +462,8 @@ impl<'a, T: Real> Walker<'a, T> {
                 // roots at its end: only their values count here (the caller
                 // samples the approach to that root).
                 let s1 = if shrunk.is_some() { Jet { d: T::from_f64(f64::NAN), ..s1 } } else { s1 };
-                let Some(root) = self.first_root(bits, k, kind, (near.lambda, s0), (far.lambda, s1), dir, entering)
-                else {
+                let along = Along { bits, k, kind, dir };
+                let Some(root) = self.first_root(along, (near.lambda, s0), (far.lambda, s1), entering) else {
                     continue;
                 };
                 let event = Event { step: k, kind };
@@ -472,17 +482,7 @@ impl<'a, T: Real> Walker<'a, T> {
     /// `kind` becomes negative; `s0`, `s1` are the slack jets at a and b with
     /// slopes along the walk. `entering`: the slack is zero at a by
     /// construction and grows into the gap.
-    #[allow(clippy::too_many_arguments)]
-    fn first_root(
-        &mut self,
-        bits: &[bool],
-        k: usize,
-        kind: Kind,
-        (a, s0): (T, Jet<T>),
-        (b, s1): (T, Jet<T>),
-        dir: T,
-        entering: bool,
-    ) -> Option<T> {
+    fn first_root(&mut self, along: Along<T>, (a, s0): (T, Jet<T>), (b, s1): (T, Jet<T>), entering: bool) -> Option<T> {
         let zero = T::zero();
         if !self.closes_beyond(s0, entering) {
             return Some(a);
@@ -492,7 +492,7 @@ impl<'a, T: Real> Walker<'a, T> {
         } else if s1.v == zero {
             return Some(b);
         } else if s1.v < zero {
-            return Some(self.locate(bits, k, kind, a, b, dir));
+            return Some(self.locate(along, a, b));
         }
         let clamp = |s: Jet<T>| Jet { v: if s.v < zero { zero } else { s.v }, ..s };
         let (s0, s1) = (clamp(s0), clamp(s1));
@@ -501,7 +501,7 @@ impl<'a, T: Real> Walker<'a, T> {
             // a square root (monotone): a sign change is all there is to find.
             return None;
         }
-        self.search(bits, k, kind, (a, s0), (b, s1), dir, 0)
+        self.search(along, (a, s0), (b, s1), 0)
     }
 
     /// A slack a few rounding errors below zero where it is nearly tangent
@@ -532,32 +532,22 @@ impl<'a, T: Real> Walker<'a, T> {
     }
 
     /// Roots of a slack positive at both ends of [a, b], from its jets.
-    #[allow(clippy::too_many_arguments)]
-    fn search(
-        &mut self,
-        bits: &[bool],
-        k: usize,
-        kind: Kind,
-        (a, s0): (T, Jet<T>),
-        (b, s1): (T, Jet<T>),
-        dir: T,
-        depth: u32,
-    ) -> Option<T> {
-        match certify(s0, s1, (b - a) * dir) {
+    fn search(&mut self, along: Along<T>, (a, s0): (T, Jet<T>), (b, s1): (T, Jet<T>), depth: u32) -> Option<T> {
+        match certify(s0, s1, (b - a) * along.dir) {
             Shape::NoRoot => None,
-            Shape::Convex => self.through_minimum(bits, k, kind, a, b, dir),
+            Shape::Convex => self.through_minimum(along, a, b),
             Shape::Inflection => {
                 // Halve: each half is certified or halved again.
                 let c = (a + b) / T::from_f64(2.0);
-                let sc = self.slack_at(bits, k, kind, c, dir)?;
+                let sc = self.slack_at(along, c)?;
                 if depth >= 40 || !finite(&sc) || !between(c, a, b) {
-                    return self.through_minimum(bits, k, kind, a, b, dir);
+                    return self.through_minimum(along, a, b);
                 }
                 if sc.v <= T::zero() {
-                    return Some(self.locate(bits, k, kind, a, c, dir));
+                    return Some(self.locate(along, a, c));
                 }
-                self.search(bits, k, kind, (a, s0), (c, sc), dir, depth + 1)
-                    .or_else(|| self.search(bits, k, kind, (c, sc), (b, s1), dir, depth + 1))
+                self.search(along, (a, s0), (c, sc), depth + 1)
+                    .or_else(|| self.search(along, (c, sc), (b, s1), depth + 1))
             }
         }
     }
@@ -565,9 +555,10 @@ impl<'a, T: Real> Walker<'a, T> {
     /// The slack's minimum between a and b decides: above zero no root; at
     /// zero (to [`tolerance::ROOT_VALUE`]) a tangency inside the interval;
     /// below zero the first root is before the minimum.
-    fn through_minimum(&mut self, bits: &[bool], k: usize, kind: Kind, a: T, b: T, dir: T) -> Option<T> {
+    fn through_minimum(&mut self, along: Along<T>, a: T, b: T) -> Option<T> {
+        let Along { k, kind, dir, .. } = along;
         let zero = T::zero();
-        let slope = |this: &Self, x: T| this.slack_at(bits, k, kind, x, dir);
+        let slope = |this: &Self, x: T| this.slack_at(along, x);
         let (Some(sa), Some(sb)) = (slope(self, a), slope(self, b)) else { return None };
         if !(sa.d < zero && sb.d > zero) {
             return None;
@@ -590,12 +581,12 @@ impl<'a, T: Real> Walker<'a, T> {
             }
             return None;
         }
-        Some(self.locate(bits, k, kind, a, m, dir))
+        Some(self.locate(along, a, m))
     }
 
     /// The root of step k's slack between a (slack > 0) and b (≤ 0).
-    fn locate(&self, bits: &[bool], k: usize, kind: Kind, a: T, b: T, dir: T) -> T {
-        newton(a, b, |x| self.slack_at(bits, k, kind, x, dir).map(|s| (s.v, s.d * dir)))
+    fn locate(&self, along: Along<T>, a: T, b: T) -> T {
+        newton(a, b, |x| self.slack_at(along, x).map(|s| (s.v, s.d * along.dir)))
     }
 }
 
