@@ -135,6 +135,15 @@ fn compare_runs<R: Real>(reference: &[OrientedInterval<R>], space: &[OrientedInt
     Accuracy { max_endpoint_error: worst, max_relative_error: worst / scale, same_structure }
 }
 
+/// The scene's construction in double-double and in double-double jets: the
+/// reference arithmetic every accuracy check runs in.
+pub fn reference_constructions(
+    linkage: &Linkage,
+    dec: &Decomposition,
+) -> Option<(Construction<Dd>, Construction<Jet<Dd>>)> {
+    Some((Construction::new(linkage, dec).ok()?, Construction::new(linkage, dec).ok()?))
+}
+
 /// The lazy walk from the same start in double-double, compared with `space`.
 pub fn lazy_reference_accuracy(
     linkage: &Linkage,
@@ -142,8 +151,7 @@ pub fn lazy_reference_accuracy(
     drawn: &Drawn,
     space: &CayleySpace<f64>,
 ) -> Option<Accuracy> {
-    let con = Construction::<Dd>::new(linkage, dec).ok()?;
-    let jet = Construction::<Jet<Dd>>::new(linkage, dec).ok()?;
+    let (con, jet) = reference_constructions(linkage, dec)?;
     let reference = component_through(&con, &jet, &drawn.ty, Dd::new(drawn.lambda), LazyOptions::default()).ok()?;
     Some(compare_runs(&reference.intervals, &space.intervals, linkage.scale))
 }
@@ -155,8 +163,7 @@ pub fn reference_accuracy(
     cx: &Complexity,
     space: &CayleySpace<f64>,
 ) -> Option<Accuracy> {
-    let con = Construction::<Dd>::new(linkage, dec).ok()?;
-    let jet = Construction::<Jet<Dd>>::new(linkage, dec).ok()?;
+    let (con, jet) = reference_constructions(linkage, dec)?;
     let reference = cayley_space(&con, jet, dec, cx, space.method);
     Some(compare_runs(&reference.intervals, &space.intervals, linkage.scale))
 }

@@ -14,7 +14,7 @@ use crate::cayley_space::{Method, cayley_space};
 use crate::invert::Inverter;
 use crate::lazy::{LazyOptions, component_through};
 use crate::motion::{Stepper, component_segments, realization_at};
-use crate::real::{Dd, Jet, Real};
+use crate::real::{Jet, Real};
 use crate::realize::{Construction, RealizationType, bar_residual};
 use crate::report::{fmt_num, fmt_sci, write_table};
 
@@ -225,8 +225,8 @@ pub fn bench_scene(a: &Analysis, s: &Solved, repeat: usize) -> (Vec<MethodRow>, 
         return (vec![row], Vec::new());
     }
     let reference = {
-        let dd = Construction::<Dd>::new(&a.linkage, &s.dec).expect("shapes close in f64, so in dd");
-        let jd = Construction::<Jet<Dd>>::new(&a.linkage, &s.dec).expect("as above");
+        let (dd, jd) =
+            crate::analysis::reference_constructions(&a.linkage, &s.dec).expect("shapes close in f64, so in dd");
         spans(&cayley_space(&dd, jd, &s.dec, &s.complexity, Method::Exact))
     };
     let mut rows = Vec::new();

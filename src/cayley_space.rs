@@ -43,6 +43,24 @@ impl Kind {
             Kind::Folded => "folded",
         }
     }
+
+    /// The base distance at which a step with sides r1, r2 is flat this way.
+    pub fn target<T: Real>(self, r1: T, r2: T) -> T {
+        match self {
+            Kind::Stretched => r1 + r2,
+            Kind::Folded => (r1 - r2).abs(),
+        }
+    }
+
+    /// The step's slack for this kind at base distance `d` (a jet, so with
+    /// its slope and curvature): positive where this side of the triangle closes.
+    pub fn slack<T: Real>(self, r1: T, r2: T, d: Jet<T>) -> Jet<T> {
+        let t = Jet::constant(self.target(r1, r2));
+        match self {
+            Kind::Stretched => t - d,
+            Kind::Folded => d - t,
+        }
+    }
 }
 
 /// Step `step` is flat (`kind`) at an endpoint.
@@ -243,18 +261,12 @@ impl<T: Real> Sweep<'_, T> {
     /// Slack of step k as a jet (value, slope, curvature).
     fn slack(&self, k: usize, kind: Kind, d: Jet<T>) -> Jet<T> {
         let s = &self.con.steps[k];
-        match kind {
-            Kind::Stretched => Jet::constant(s.r1 + s.r2) - d,
-            Kind::Folded => d - Jet::constant((s.r1 - s.r2).abs()),
-        }
+        kind.slack(s.r1, s.r2, d)
     }
 
     fn target(&self, k: usize, kind: Kind) -> T {
         let s = &self.con.steps[k];
-        match kind {
-            Kind::Stretched => s.r1 + s.r2,
-            Kind::Folded => (s.r1 - s.r2).abs(),
-        }
+        kind.target(s.r1, s.r2)
     }
 
     /// Signs of the slack left and right of a root, from its slope, or from

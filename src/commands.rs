@@ -15,6 +15,16 @@ pub fn default_step(a: &Analysis) -> f64 {
     a.linkage.scale / 100.0
 }
 
+/// In a lazy analysis, walk the components through the realizations named
+/// by `specs` (`TYPE@LAMBDA`; `drawn` is always known) so that they resolve.
+pub fn include_specs(s: &mut Solved, specs: &[&str]) {
+    for spec in specs {
+        if let Ok(r) = Realization::parse(spec) {
+            s.include(&r);
+        }
+    }
+}
+
 /// `drawn` or `TYPE@LAMBDA` → a located realization (interval index).
 pub fn resolve_realization(a: &Analysis, s: &Solved, spec: &str) -> Result<(Realization, usize), String> {
     let r = if spec.trim() == "drawn" {

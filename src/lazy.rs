@@ -127,7 +127,7 @@ impl<'a, T: Real> Walker<'a, T> {
     fn new(con: &'a Construction<T>, jet: &'a Construction<Jet<T>>, options: LazyOptions) -> Self {
         let mut range = [T::zero(), T::from_f64(f64::INFINITY)];
         for s in (0..con.steps.len()).filter(|&k| con.on_base(k)).map(|k| &con.steps[k]) {
-            let (lo, hi) = ((s.r1 - s.r2).abs(), s.r1 + s.r2);
+            let (lo, hi) = (Kind::Folded.target(s.r1, s.r2), Kind::Stretched.target(s.r1, s.r2));
             if lo > range[0] {
                 range[0] = lo;
             }
@@ -161,10 +161,7 @@ impl<'a, T: Real> Walker<'a, T> {
     /// taken along the walk (`dir` = ±1): positive where the step closes.
     fn slack(&self, k: usize, kind: Kind, d: Jet<T>, dir: T) -> Jet<T> {
         let s = &self.con.steps[k];
-        let j = match kind {
-            Kind::Stretched => Jet::constant(s.r1 + s.r2) - d,
-            Kind::Folded => d - Jet::constant((s.r1 - s.r2).abs()),
-        };
+        let j = kind.slack(s.r1, s.r2, d);
         Jet { v: j.v, d: j.d * dir, s: j.s }
     }
 
@@ -273,18 +270,9 @@ impl<'a, T: Real> Walker<'a, T> {
         }
         let beside = e.lambda + dir * T::from_f64(tolerance::FEASIBLE.sqrt() * self.con.scale);
         let realizable = |t: &RealizationType| self.con.realize(beside, t).is_ok();
-        let flipped = |mask: usize| {
-            let mut t = ty.clone();
-            for (b, &k) in steps.iter().enumerate() {
-                if mask & (1 << b) != 0 {
-                    t = t.flipped(k);
-                }
-            }
-            t
-        };
         let singles = (0..steps.len()).map(|b| 1usize << b);
         let all = 1..(1usize << steps.len().min(8));
-        singles.chain(all).map(flipped).find(|t| realizable(t))
+        singles.chain(all).map(|mask| ty.flipped_by_mask(&steps, mask)).find(|t| realizable(t))
     }
 
     /// The first end of type `bits`'s interval beyond `from` in direction
@@ -410,8 +398,8 @@ impl<'a, T: Real> Walker<'a, T> {
         let mut out = Vec::new();
         for k in (0..self.con.steps.len()).filter(|&k| self.con.on_base(k)) {
             let s = &self.con.steps[k];
-            for (kind, t) in [(Kind::Stretched, s.r1 + s.r2), (Kind::Folded, (s.r1 - s.r2).abs())] {
-                if (lambda - t).abs() <= self.coincide {
+            for kind in [Kind::Stretched, Kind::Folded] {
+                if (lambda - kind.target(s.r1, s.r2)).abs() <= self.coincide {
                     out.push(Event { step: k, kind });
                 }
             }

@@ -230,7 +230,7 @@ fn run(command: Command) -> Result<u8, Failure> {
         }
         Command::Path { scene, from, to, format, step } => {
             let (a, mut s) = solved(scene.as_deref())?;
-            include(&mut s, [from.as_str(), to.as_str()]);
+            commands::include_specs(&mut s, &[&from, &to]);
             let step = positive_step(step, &a)?;
             let report = commands::path(&a, &s, &from, &to, step).map_err(arg_error)?;
             match format {
@@ -241,7 +241,7 @@ fn run(command: Command) -> Result<u8, Failure> {
         }
         Command::Trace { scene, component, from, to, arc, joints, step, cayley, output } => {
             let (a, mut s) = solved(scene.as_deref())?;
-            include(&mut s, [from.as_deref().unwrap_or("drawn"), to.as_deref().unwrap_or("drawn")]);
+            commands::include_specs(&mut s, &[from.as_deref().unwrap_or("drawn"), to.as_deref().unwrap_or("drawn")]);
             let step = positive_step(step, &a)?;
             let joints = commands::parse_joints(&a, joints.as_deref()).map_err(arg_error)?;
             let between = from.as_deref().zip(to.as_deref()).map(|(f, t)| (f, t, arc));
@@ -333,15 +333,6 @@ fn emit(text: &str) {
         }
         eprintln!("caymos: cannot write output: {e}");
         std::process::exit(1);
-    }
-}
-
-/// In a lazy analysis, walk the components through the named realizations too.
-fn include(s: &mut Solved, specs: [&str; 2]) {
-    for spec in specs {
-        if let Ok(r) = caymos::motion::Realization::parse(spec) {
-            s.include(&r);
-        }
     }
 }
 

@@ -79,12 +79,7 @@ pub fn components(space: &CayleySpace<f64>) -> Components {
         let e = end(&ivs[i], side);
         let steps: Vec<usize> = e.events.iter().map(|ev| ev.step).collect();
         let lookup = |mask: usize| -> Vec<usize> {
-            let mut ty = ivs[i].ty.clone();
-            for (b, &k) in steps.iter().enumerate() {
-                if mask & (1 << b) != 0 {
-                    ty = ty.flipped(k);
-                }
-            }
+            let ty = ivs[i].ty.flipped_by_mask(&steps, mask);
             by_end.get(&(e.id, side, &ty)).cloned().unwrap_or_default()
         };
         let singles: Vec<usize> = (0..steps.len()).flat_map(|b| lookup(1 << b)).filter(|&j| j != i).collect();

@@ -48,6 +48,18 @@ impl RealizationType {
         bits[i] = !bits[i];
         RealizationType(bits)
     }
+
+    /// The type with the bits of those `steps` chosen by `mask` flipped (bit
+    /// b of the mask for `steps[b]`): the candidates at a branch point.
+    pub fn flipped_by_mask(&self, steps: &[usize], mask: usize) -> Self {
+        let mut bits = self.0.clone();
+        for (b, &k) in steps.iter().enumerate() {
+            if mask & (1 << b) != 0 {
+                bits[k] = !bits[k];
+            }
+        }
+        RealizationType(bits)
+    }
 }
 
 impl fmt::Display for RealizationType {

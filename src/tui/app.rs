@@ -491,10 +491,7 @@ impl Model {
     pub fn go_to(&mut self, text: &str) -> Result<(), String> {
         let scale = self.analysis.linkage.scale;
         if text.contains('@') || text == "drawn" {
-            if let Ok(r) = crate::motion::Realization::parse(text) {
-                // A lazy analysis walks the component through r on first visit.
-                self.solved.include(&r);
-            }
+            commands::include_specs(&mut self.solved, &[text]);
             let s = &self.solved;
             let (r, i) = commands::resolve_realization(&self.analysis, s, text)?;
             let k = s.components.of_interval[i];
