@@ -1,5 +1,6 @@
 //! Scenes built in code (generators, property tests) rather than read from TOML.
 
+use crate::real::Dd;
 use crate::scene::{Bar, Body, Joint, Scene};
 
 /// Accumulates joints, bars and bodies; joint names must be unique.
@@ -20,7 +21,7 @@ impl SceneBuilder {
 
     /// Add a joint and return its index.
     pub fn joint(&mut self, name: &str, pos: [f64; 2]) -> usize {
-        self.joints.push(Joint { name: name.to_string(), pos, line: 0 });
+        self.joints.push(Joint { name: name.to_string(), pos, exact: pos.map(Dd::new), line: 0 });
         self.joints.len() - 1
     }
 
@@ -30,19 +31,19 @@ impl SceneBuilder {
 
     pub fn bar(&mut self, a: &str, b: &str) -> &mut Self {
         let joints = [self.index(a), self.index(b)];
-        self.bars.push(Bar { joints, length: None, line: 0 });
+        self.bars.push(Bar { joints, length: None, exact_length: None, line: 0 });
         self
     }
 
     /// A bar with a stated length (the drawing becomes a sketch).
     pub fn bar_len(&mut self, a: &str, b: &str, length: f64) -> &mut Self {
         let joints = [self.index(a), self.index(b)];
-        self.bars.push(Bar { joints, length: Some(length), line: 0 });
+        self.bars.push(Bar { joints, length: Some(length), exact_length: Some(Dd::new(length)), line: 0 });
         self
     }
 
     pub fn bar_ix(&mut self, a: usize, b: usize, length: Option<f64>) -> &mut Self {
-        self.bars.push(Bar { joints: [a, b], length, line: 0 });
+        self.bars.push(Bar { joints: [a, b], length, exact_length: length.map(Dd::new), line: 0 });
         self
     }
 

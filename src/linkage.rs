@@ -1,6 +1,7 @@
 //! The linkage a scene states: joints, bars with their lengths, rigid bodies.
 //! Derived once from a [`Scene`]; the solver never looks at TOML again.
 
+use crate::real::{Dd, Real};
 use crate::scene::Scene;
 
 /// A bar with its length (stated, or the drawn distance).
@@ -8,6 +9,9 @@ use crate::scene::Scene;
 pub struct LinkBar {
     pub joints: [usize; 2],
     pub length: f64,
+    /// The length from the input as written (stated, or the distance of the
+    /// written coordinates) in double-double; `length` is it rounded.
+    pub exact: Dd,
     /// Difference stated − drawn length (zero when the length is not stated).
     pub sketch_error: f64,
 }
@@ -17,6 +21,8 @@ pub struct Linkage {
     pub names: Vec<String>,
     /// Positions as drawn (y up).
     pub drawn: Vec<[f64; 2]>,
+    /// The same as written, in double-double.
+    pub drawn_exact: Vec<[Dd; 2]>,
     pub bars: Vec<LinkBar>,
     pub bodies: Vec<Vec<usize>>,
     pub ground: Vec<usize>,
@@ -31,13 +37,26 @@ pub fn dist(p: [f64; 2], q: [f64; 2]) -> f64 {
 impl Linkage {
     pub fn from_scene(scene: &Scene) -> Linkage {
         let drawn: Vec<[f64; 2]> = scene.joints.iter().map(|j| j.pos).collect();
+        // The written value where it still rounds to the f64 one (a scene
+        // edited in code keeps only its f64 numbers).
+        let exact = |text: Dd, value: f64| if text.to_f64() == value { text } else { Dd::new(value) };
+        let drawn_exact: Vec<[Dd; 2]> =
+            scene.joints.iter().map(|j| [exact(j.exact[0], j.pos[0]), exact(j.exact[1], j.pos[1])]).collect();
         let bars: Vec<LinkBar> = scene
             .bars
             .iter()
             .map(|b| {
                 let d = dist(drawn[b.joints[0]], drawn[b.joints[1]]);
-                let length = b.length.unwrap_or(d);
-                LinkBar { joints: b.joints, length, sketch_error: length - d }
+                let exact = match (b.length, b.exact_length) {
+                    (Some(l), Some(text)) => exact(text, l),
+                    (Some(l), None) => Dd::new(l),
+                    (None, _) => {
+                        let [p, q] = b.joints.map(|j| drawn_exact[j]);
+                        Dd::hypot(q[0] - p[0], q[1] - p[1])
+                    }
+                };
+                let length = exact.to_f64();
+                LinkBar { joints: b.joints, length, exact, sketch_error: length - d }
             })
             .collect();
         let bodies: Vec<Vec<usize>> = scene.bodies.iter().map(|b| b.joints.clone()).collect();
@@ -55,6 +74,7 @@ impl Linkage {
         Linkage {
             names: scene.joints.iter().map(|j| j.name.clone()).collect(),
             drawn,
+            drawn_exact,
             bars,
             bodies,
             ground: scene.ground.clone(),

@@ -20,6 +20,10 @@ pub trait Real:
     /// Unit roundoff of the type (half the machine epsilon).
     const UNIT_ROUNDOFF: f64;
     fn from_f64(x: f64) -> Self;
+    /// A double-double input value (a length or coordinate as written) in
+    /// this type: rounded for f64, exact for [`Dd`], with its rounding as
+    /// radius for a [`Ball`].
+    fn from_dd(x: Dd) -> Self;
     /// The value rounded to f64 (for a jet: its value).
     fn to_f64(self) -> f64;
     /// Square root; a negative argument gives NaN, as for f64.
@@ -30,6 +34,11 @@ pub trait Real:
     fn abs(self) -> Self {
         if self < Self::zero() { -self } else { self }
     }
+    /// max(self, 0): a quantity that is ≥ 0 in exact arithmetic (a slack
+    /// inside its interval) but may round below zero.
+    fn clamp_nonneg(self) -> Self {
+        if self < Self::zero() { Self::zero() } else { self }
+    }
     fn hypot(x: Self, y: Self) -> Self {
         (x * x + y * y).sqrt()
     }
@@ -39,6 +48,9 @@ impl Real for f64 {
     const UNIT_ROUNDOFF: f64 = f64::EPSILON / 2.0;
     fn from_f64(x: f64) -> Self {
         x
+    }
+    fn from_dd(x: Dd) -> Self {
+        x.hi + x.lo
     }
     fn to_f64(self) -> f64 {
         self
@@ -152,6 +164,9 @@ impl Real for Dd {
     fn from_f64(x: f64) -> Self {
         Dd::new(x)
     }
+    fn from_dd(x: Dd) -> Self {
+        x
+    }
     fn to_f64(self) -> f64 {
         self.hi + self.lo
     }
@@ -234,6 +249,9 @@ impl<T: Real> Real for Jet<T> {
     fn from_f64(x: f64) -> Self {
         Jet::constant(T::from_f64(x))
     }
+    fn from_dd(x: Dd) -> Self {
+        Jet::constant(T::from_dd(x))
+    }
     fn to_f64(self) -> f64 {
         self.v.to_f64()
     }
@@ -244,6 +262,178 @@ impl<T: Real> Real for Jet<T> {
         let d = self.d / (two * r);
         let s = (self.s - two * d * d) / (two * r);
         Jet { v: r, d, s }
+    }
+}
+
+
+impl Dd {
+    /// 10^n for 0 ≤ n ≤ 300, by squaring (exact while 10^n fits 106 bits, n ≤ 45).
+    fn pow10(n: u32) -> Dd {
+        let (mut result, mut base, mut n) = (Dd::new(1.0), Dd::new(10.0), n);
+        while n > 0 {
+            if n & 1 == 1 {
+                result = result * base;
+            }
+            base = base * base;
+            n >>= 1;
+        }
+        result
+    }
+
+    /// A decimal number as written (`-12.5e-3`, TOML's `1_000`) in
+    /// double-double: the digits are accumulated exactly (up to 31 of them),
+    /// then scaled by a power of ten, so the result is within a few units of
+    /// 2^-104 of the written value. `None` for anything else (hex, inf, nan).
+    pub fn parse_decimal(text: &str) -> Option<Dd> {
+        let text: String = text.trim().chars().filter(|&c| c != '_').collect();
+        let (negative, body) = match text.as_bytes().first()? {
+            b'-' => (true, &text[1..]),
+            b'+' => (false, &text[1..]),
+            _ => (false, &text[..]),
+        };
+        let (mantissa, exponent) = match body.find(['e', 'E']) {
+            Some(i) => (&body[..i], body[i + 1..].parse::<i32>().ok()?),
+            None => (body, 0),
+        };
+        let (int, frac) = mantissa.split_once('.').unwrap_or((mantissa, ""));
+        if int.is_empty() && frac.is_empty() || !(int.chars().chain(frac.chars()).all(|c| c.is_ascii_digit())) {
+            return None;
+        }
+        let mut digits = Dd::new(0.0);
+        for c in int.chars().chain(frac.chars()) {
+            digits = digits.mul_f64(10.0) + Dd::new(f64::from(c as u8 - b'0'));
+        }
+        let mut e10 = exponent.checked_sub(i32::try_from(frac.len()).ok()?)?;
+        // Scale in pieces so that no power of ten overflows.
+        while e10 != 0 {
+            let piece = e10.clamp(-300, 300);
+            let p = Dd::pow10(piece.unsigned_abs());
+            digits = if piece > 0 { digits * p } else { digits / p };
+            e10 -= piece;
+        }
+        let value = if negative { -digits } else { digits };
+        value.hi.is_finite().then_some(value)
+    }
+}
+
+/// A midpoint-radius enclosure ("ball") of a real number: the true value
+/// lies in [m − r, m + r]. Every operation widens the radius by its
+/// propagated input radii and its own rounding error (bounded by a few units
+/// of `T`'s roundoff times the result), so a sign read from a ball whose
+/// radius is below |m| is proven. Used to decide structural questions (is
+/// a slack positive, zero or negative at an event) without tolerances;
+/// see [`crate::certify`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Ball<T> {
+    pub m: T,
+    pub r: f64,
+}
+
+/// Relative slack on every radius computation (it is rounded too).
+const RADIUS_ROUNDING: f64 = 1.0 + 1e-14;
+
+impl<T: Real> Ball<T> {
+    pub fn exact(m: T) -> Self {
+        Ball { m, r: 0.0 }
+    }
+    fn mag(x: T) -> f64 {
+        x.to_f64().abs()
+    }
+    /// A result `m` whose propagated radius is `r`: add `m`'s own rounding.
+    fn rounded(m: T, r: f64) -> Self {
+        let own = 4.0 * T::UNIT_ROUNDOFF * Self::mag(m) + f64::MIN_POSITIVE;
+        Ball { m, r: (r + own) * RADIUS_ROUNDING }
+    }
+    /// The sign of the enclosed value: `Some(±1)` when proven, `None` when
+    /// the ball holds zero.
+    pub fn sign(self) -> Option<i8> {
+        let m = self.m.to_f64();
+        if !(self.r.is_finite() && m.is_finite()) || m.abs() <= self.r {
+            None
+        } else {
+            Some(if m > 0.0 { 1 } else { -1 })
+        }
+    }
+}
+
+impl<T: Real> Add for Ball<T> {
+    type Output = Self;
+    fn add(self, o: Self) -> Self {
+        Ball::rounded(self.m + o.m, self.r + o.r)
+    }
+}
+impl<T: Real> Sub for Ball<T> {
+    type Output = Self;
+    fn sub(self, o: Self) -> Self {
+        Ball::rounded(self.m - o.m, self.r + o.r)
+    }
+}
+impl<T: Real> Neg for Ball<T> {
+    type Output = Self;
+    fn neg(self) -> Self {
+        Ball { m: -self.m, r: self.r }
+    }
+}
+impl<T: Real> Mul for Ball<T> {
+    type Output = Self;
+    fn mul(self, o: Self) -> Self {
+        let (a, b) = (Self::mag(self.m), Self::mag(o.m));
+        Ball::rounded(self.m * o.m, a * o.r + b * self.r + self.r * o.r)
+    }
+}
+impl<T: Real> Div for Ball<T> {
+    type Output = Self;
+    fn div(self, o: Self) -> Self {
+        let m = self.m / o.m;
+        let below = Self::mag(o.m) - o.r;
+        if below.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
+            return Ball { m, r: f64::INFINITY };
+        }
+        Ball::rounded(m, (self.r + Self::mag(m) * o.r) / below)
+    }
+}
+impl<T: Real> PartialOrd for Ball<T> {
+    /// By midpoint: only for choosing a formula, never for a decision (use [`Ball::sign`]).
+    fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
+        self.m.partial_cmp(&other.m)
+    }
+}
+
+impl<T: Real> Real for Ball<T> {
+    const UNIT_ROUNDOFF: f64 = T::UNIT_ROUNDOFF;
+    fn from_f64(x: f64) -> Self {
+        Ball::exact(T::from_f64(x))
+    }
+    fn from_dd(x: Dd) -> Self {
+        // The rounding to T, and the decimal → double-double conversion.
+        let size = x.to_f64().abs();
+        Ball { m: T::from_dd(x), r: size * (4.0 * T::UNIT_ROUNDOFF + 1e-30) }
+    }
+    fn to_f64(self) -> f64 {
+        self.m.to_f64()
+    }
+    fn sqrt(self) -> Self {
+        let m = Self::mag(self.m) * self.m.to_f64().signum();
+        if m - self.r <= 0.0 {
+            // The enclosure reaches zero: √ of [0, m + r].
+            let top = (m + self.r).max(0.0).sqrt() * RADIUS_ROUNDING;
+            return Ball { m: T::from_f64(top / 2.0), r: top / 2.0 * RADIUS_ROUNDING };
+        }
+        let root = self.m.sqrt();
+        let low = (m - self.r).sqrt();
+        Ball::rounded(root, self.r / (Self::mag(root) + low))
+    }
+    fn clamp_nonneg(self) -> Self {
+        let m = self.m.to_f64();
+        if m - self.r >= 0.0 {
+            self
+        } else if m + self.r <= 0.0 {
+            Ball::exact(T::zero())
+        } else {
+            // [max(lo, 0), hi]
+            let top = m + self.r;
+            Ball { m: T::from_f64(top / 2.0), r: top / 2.0 * RADIUS_ROUNDING }
+        }
     }
 }
 
@@ -261,6 +451,39 @@ mod tests {
         // 1 + 2^-80 survives in dd, not in f64.
         let tiny = Dd::new(1.0) + Dd::new(2f64.powi(-80));
         assert_eq!((tiny - Dd::new(1.0)).to_f64(), 2f64.powi(-80));
+    }
+
+    #[test]
+    fn decimals_parse_to_double_double() {
+        let tenth = Dd::parse_decimal("0.1").unwrap();
+        // 0.1 is not an f64; its double-double is 10^-32 close.
+        assert!(((tenth * Dd::new(10.0)) - Dd::new(1.0)).to_f64().abs() < 1e-31);
+        assert_eq!(tenth.to_f64(), 0.1);
+        let x = Dd::parse_decimal("-3.999999999999e-3").unwrap();
+        assert_eq!(x.to_f64(), -3.999999999999e-3);
+        assert_eq!(Dd::parse_decimal("1_000").unwrap().to_f64(), 1000.0);
+        assert_eq!(Dd::parse_decimal("2.5E+2").unwrap().to_f64(), 250.0);
+        assert!(Dd::parse_decimal("1e-320").is_some_and(|v| v.to_f64() == 1e-320));
+        assert!(Dd::parse_decimal("inf").is_none() && Dd::parse_decimal("0x10").is_none());
+    }
+
+    #[test]
+    fn balls_enclose_and_prove_signs() {
+        // (1/3)·3 − 1 is zero in exact arithmetic: the ball must hold 0.
+        let third = Ball::<f64>::from_f64(1.0) / Ball::from_f64(3.0);
+        let zero = third * Ball::from_f64(3.0) - Ball::from_f64(1.0);
+        assert_eq!(zero.sign(), None);
+        // 0.1 as written: its f64 is off by 5.5e-18, which the radius covers.
+        let tenth = Ball::<f64>::from_dd(Dd::parse_decimal("0.1").unwrap());
+        assert!(tenth.r >= 5.5e-18);
+        let d = Ball::<f64>::from_f64(1e-12) - Ball::from_f64(0.0);
+        assert_eq!(d.sign(), Some(1));
+        // √ of an enclosure reaching below zero stays an enclosure of √[0, hi].
+        let s = Ball::<f64> { m: 1e-20, r: 1e-18 }.sqrt();
+        assert!(s.m - s.r <= 0.0 && s.m + s.r >= (1.01e-18f64).sqrt());
+        // Double-double balls decide what f64 ones cannot.
+        let a = Ball::<Dd>::from_dd(Dd::new(1.0) + Dd::new(1e-20));
+        assert_eq!((a - Ball::from_f64(1.0)).sign(), Some(1));
     }
 
     #[test]

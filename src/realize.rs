@@ -156,8 +156,9 @@ fn apex_flat<T: Real>(
         return Err(Some(s.to_f64()));
     }
     let zero = T::zero();
-    let clamp = |x: T| if x < zero { zero } else { x };
-    let h2 = (r1 + r2 + d) * clamp(stretch) * clamp(fold) * (d + (r1 - r2).abs()) / (T::from_f64(4.0) * d * d);
+    // Two dimensionless factors times two slacks: no product of four lengths to overflow.
+    let two_d = T::from_f64(2.0) * d;
+    let h2 = ((r1 + r2 + d) / two_d * stretch.clamp_nonneg()) * ((d + (r1 - r2).abs()) / two_d * fold.clamp_nonneg());
     let h = if flat { zero } else { h2.sqrt() };
     let along = (d + (r1 - r2) * (r1 + r2) / d) / T::from_f64(2.0);
     let (ex, ey) = (e[0] / d, e[1] / d);
@@ -221,12 +222,12 @@ fn cluster_shapes<T: Real>(linkage: &Linkage, clusters: &ClusterSet) -> Result<V
         let shape = match &node.origin {
             Origin::Bar(i) => {
                 let bar = &linkage.bars[*i];
-                let l = T::from_f64(bar.length);
+                let l = T::from_dd(bar.exact);
                 vec![(bar.joints[0], [T::zero(), T::zero()]), (bar.joints[1], [l, T::zero()])]
             }
             Origin::Body(i) => linkage.bodies[*i]
                 .iter()
-                .map(|&j| (j, [T::from_f64(linkage.drawn[j][0]), T::from_f64(linkage.drawn[j][1])]))
+                .map(|&j| (j, linkage.drawn_exact[j].map(T::from_dd)))
                 .collect(),
             Origin::Base => Vec::new(),
             Origin::Triangle { parts, shared: [p, q, r] } => {

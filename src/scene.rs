@@ -11,6 +11,8 @@ use std::ops::Range;
 use std::path::Path;
 
 use toml::Spanned;
+
+use crate::real::{Dd, Real};
 use toml::de::{DeArray, DeString, DeTable, DeValue};
 
 /// A joint as drawn: its name, position (y up) and the 1-based line it was declared on.
@@ -18,6 +20,8 @@ use toml::de::{DeArray, DeString, DeTable, DeValue};
 pub struct Joint {
     pub name: String,
     pub pos: [f64; 2],
+    /// The coordinates as written, in double-double (`pos` is them rounded).
+    pub exact: [Dd; 2],
     pub line: usize,
 }
 
@@ -27,6 +31,8 @@ pub struct Joint {
 pub struct Bar {
     pub joints: [usize; 2],
     pub length: Option<f64>,
+    /// The stated length as written, in double-double.
+    pub exact_length: Option<Dd>,
     pub line: usize,
 }
 
@@ -312,9 +318,10 @@ fn optional_string(doc: &Doc, table: &DeTable, key: &str) -> Result<Option<Strin
     }
 }
 
-/// A finite number (TOML integer or float). `what` names it in errors,
-/// e.g. `joint "A": x coordinate`. `-0` is read as `0`.
-fn finite_number(doc: &Doc, value: &Value, what: &str) -> Result<f64, SceneError> {
+/// A finite number (TOML integer or float), with its value as written in
+/// double-double. `what` names it in errors, e.g. `joint "A": x coordinate`.
+/// `-0` is read as `0`.
+fn exact_number(doc: &Doc, value: &Value, what: &str) -> Result<(f64, Dd), SceneError> {
     let raw = doc.raw(value.span());
     let number = match value.get_ref() {
         DeValue::Integer(int) => i64::from_str_radix(int.as_str(), int.radix())
@@ -328,7 +335,12 @@ fn finite_number(doc: &Doc, value: &Value, what: &str) -> Result<f64, SceneError
     if !number.is_finite() {
         return Err(doc.error_at(value, format!("{what} must be a finite number, found {raw}")));
     }
-    Ok(number + 0.0)
+    let number = number + 0.0;
+    let exact = match value.get_ref() {
+        DeValue::Float(float) => Dd::parse_decimal(float.as_str()).filter(|x| x.to_f64() == number),
+        _ => None,
+    };
+    Ok((number, exact.unwrap_or(Dd::new(number))))
 }
 
 /// The elements of an array value, or an error saying what was expected instead.
@@ -388,9 +400,9 @@ fn parse_joint(doc: &Doc, key: &Spanned<DeString>, value: &Value) -> Result<Join
             format!("{what}: expected a position [x, y] of 2 numbers, found {} element(s)", coords.len()),
         ));
     };
-    let x = finite_number(doc, x, &format!("{what}: x coordinate"))?;
-    let y = finite_number(doc, y, &format!("{what}: y coordinate"))?;
-    Ok(Joint { name: name.to_string(), pos: [x, y], line: doc.line(key.span()) })
+    let (x, exact_x) = exact_number(doc, x, &format!("{what}: x coordinate"))?;
+    let (y, exact_y) = exact_number(doc, y, &format!("{what}: y coordinate"))?;
+    Ok(Joint { name: name.to_string(), pos: [x, y], exact: [exact_x, exact_y], line: doc.line(key.span()) })
 }
 
 /// No two joints may be drawn at the same point: exactly equal, or within
@@ -531,22 +543,25 @@ fn parse_bar(doc: &Doc, names: &JointNames, number: usize, item: &Value) -> Resu
     if a == b {
         return Err(doc.error_at(item, format!("{item_label}: a bar cannot join a joint to itself")));
     }
-    let length = match length {
-        Some(value) => Some(positive_length(doc, value, &item_label)?),
-        None => None,
+    let (length, exact_length) = match length {
+        Some(value) => {
+            let (l, exact) = positive_length(doc, value, &item_label)?;
+            (Some(l), Some(exact))
+        }
+        None => (None, None),
     };
-    Ok(Bar { joints: [a, b], length, line: doc.line(item.span()) })
+    Ok(Bar { joints: [a, b], length, exact_length, line: doc.line(item.span()) })
 }
 
 /// A stated bar length: a finite number greater than zero.
-fn positive_length(doc: &Doc, value: &Value, item_label: &str) -> Result<f64, SceneError> {
-    let length = finite_number(doc, value, &format!("{item_label}: length"))?;
+fn positive_length(doc: &Doc, value: &Value, item_label: &str) -> Result<(f64, Dd), SceneError> {
+    let (length, exact) = exact_number(doc, value, &format!("{item_label}: length"))?;
     if length <= 0.0 {
         return Err(
             doc.error_at(value, format!("{item_label}: length must be positive, found {}", doc.raw(value.span())))
         );
     }
-    Ok(length)
+    Ok((length, exact))
 }
 
 /// Parses the optional `bodies`: an array of arrays of at least three known,
