@@ -4,6 +4,7 @@
 use std::time::Instant;
 
 use crate::cayley_space::{CayleySpace, Method, Note, OrientedInterval, cayley_space, union};
+use crate::certify::Certifier;
 use crate::complexity::{Complexity, four_cycle_test};
 use crate::decompose::{Decomposition, Outside, decompose};
 use crate::lazy::{LazyOptions, component_through};
@@ -75,6 +76,8 @@ pub struct Solved {
     pub dec: Decomposition,
     pub complexity: Complexity,
     pub construction: Construction<f64>,
+    /// The construction in proven (ball) arithmetic, for structural decisions.
+    pub certifier: Certifier,
     pub drawn: Drawn,
     /// The drawn realization in the display frame (the drawing itself unless a sketch).
     pub drawn_positions: Option<Vec<P2<f64>>>,
@@ -161,10 +164,11 @@ pub fn reference_accuracy(
     linkage: &Linkage,
     dec: &Decomposition,
     cx: &Complexity,
+    cert: &Certifier,
     space: &CayleySpace<f64>,
 ) -> Option<Accuracy> {
     let (con, jet) = reference_constructions(linkage, dec)?;
-    let reference = cayley_space(&con, jet, dec, cx, space.method);
+    let reference = cayley_space(&con, cert, jet, dec, cx, space.method);
     Some(compare_runs(&reference.intervals, &space.intervals, linkage.scale))
 }
 
@@ -227,6 +231,7 @@ pub fn analyse_with(scene: Scene, base_override: Option<[usize; 2]>, scope: Scop
     let construction = timings
         .time("construction", || Construction::<f64>::new(&linkage, &dec))
         .map_err(|e| scene.error_at(None, e.0))?;
+    let certifier = Certifier::new(&linkage, &dec).expect("the f64 construction succeeded, so the ball ones do");
     let drawn = drawn_realization(&linkage, &dec);
     for &k in &drawn.flat_steps {
         let s = &dec.steps[k];
@@ -257,7 +262,7 @@ pub fn analyse_with(scene: Scene, base_override: Option<[usize; 2]>, scope: Scop
         })
     } else {
         timings.time("cayley_space", || {
-            cayley_space(&construction, construction.convert::<Jet<f64>>(), &dec, &complexity, Method::Exact)
+            cayley_space(&construction, &certifier, construction.convert::<Jet<f64>>(), &dec, &complexity, Method::Exact)
         })
     };
     let union = union(&space.intervals, linkage.scale);
@@ -266,7 +271,7 @@ pub fn analyse_with(scene: Scene, base_override: Option<[usize; 2]>, scope: Scop
             .then(|| timings.time("reference", || lazy_reference_accuracy(&linkage, &dec, &drawn, &space)))
             .flatten()
     } else if space.intervals.len() <= REFERENCE_MAX_TYPES {
-        timings.time("reference", || reference_accuracy(&linkage, &dec, &complexity, &space))
+        timings.time("reference", || reference_accuracy(&linkage, &dec, &complexity, &certifier, &space))
     } else {
         None
     };
@@ -337,6 +342,7 @@ pub fn analyse_with(scene: Scene, base_override: Option<[usize; 2]>, scope: Scop
         dec,
         complexity,
         construction,
+        certifier,
         drawn,
         drawn_positions,
         sketch,

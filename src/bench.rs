@@ -227,7 +227,7 @@ pub fn bench_scene(a: &Analysis, s: &Solved, repeat: usize) -> (Vec<MethodRow>, 
     let reference = {
         let (dd, jd) =
             crate::analysis::reference_constructions(&a.linkage, &s.dec).expect("shapes close in f64, so in dd");
-        spans(&cayley_space(&dd, jd, &s.dec, &s.complexity, Method::Exact))
+        spans(&cayley_space(&dd, &s.certifier, jd, &s.dec, &s.complexity, Method::Exact))
     };
     let mut rows = Vec::new();
     let methods: [(String, Method); 4] = [
@@ -250,7 +250,7 @@ pub fn bench_scene(a: &Analysis, s: &Solved, repeat: usize) -> (Vec<MethodRow>, 
         }
     };
     for (label, method) in methods {
-        let (t, space) = median_us(repeat, || cayley_space(con, jet.clone(), &s.dec, &s.complexity, method));
+        let (t, space) = median_us(repeat, || cayley_space(con, &s.certifier, jet.clone(), &s.dec, &s.complexity, method));
         rows.push(row(label, t, &spans(&space)));
     }
     let (t, classic) = median_us(repeat, || classic_space(con, s));

@@ -20,6 +20,7 @@
 
 use std::cmp::Ordering;
 
+use crate::certify::{At as Place, Certifier, Sign};
 use crate::complexity::Complexity;
 use crate::decompose::Decomposition;
 use crate::invert::Inverter;
@@ -55,7 +56,12 @@ impl Kind {
     /// The step's slack for this kind at base distance `d` (a jet, so with
     /// its slope and curvature): positive where this side of the triangle closes.
     pub fn slack<T: Real>(self, r1: T, r2: T, d: Jet<T>) -> Jet<T> {
-        let t = Jet::constant(self.target(r1, r2));
+        self.slack_value(Jet::constant(r1), Jet::constant(r2), d)
+    }
+
+    /// [`Self::slack`] in any arithmetic.
+    pub fn slack_value<T: Real>(self, r1: T, r2: T, d: T) -> T {
+        let t = self.target(r1, r2);
         match self {
             Kind::Stretched => t - d,
             Kind::Folded => d - t,
@@ -168,6 +174,7 @@ fn cmp<T: Real>(a: &T, b: &T) -> Ordering {
 
 struct Sweep<'a, T: Real> {
     con: &'a Construction<T>,
+    cert: &'a Certifier,
     jet: Construction<Jet<T>>,
     /// Per step: closed-form candidates for [stretched, folded], or `None` to search numerically.
     exact: Vec<Option<[Vec<T>; 2]>>,
@@ -182,6 +189,7 @@ struct Sweep<'a, T: Real> {
 /// Compute the oriented intervals of every type.
 pub fn cayley_space<T: Real>(
     con: &Construction<T>,
+    cert: &Certifier,
     jet: Construction<Jet<T>>,
     dec: &Decomposition,
     cx: &Complexity,
@@ -209,7 +217,7 @@ pub fn cayley_space<T: Real>(
         Method::Numeric { tol, .. } => T::from_f64(tol.max(0.0) * con.scale),
         Method::Exact => T::zero(),
     };
-    let mut sweep = Sweep { con, jet, exact, samples, root_tol, next_id: 0, notes: Vec::new(), out: Vec::new() };
+    let mut sweep = Sweep { con, cert, jet, exact, samples, root_tol, next_id: 0, notes: Vec::new(), out: Vec::new() };
     // Start from (0, sentinel): every root of the first step lies below the sentinel.
     let top = (0..n)
         .filter(|&k| con.on_base(k))
@@ -281,36 +289,34 @@ impl<T: Real> Sweep<'_, T> {
         }
     }
 
-    /// The roots of d_k = target inside `piece` (or at its ends).
-    fn roots(&mut self, k: usize, bits: &[bool], piece: &Piece<T>) -> Vec<Root<T>> {
+    /// Proven signs of step k's slacks ([stretched, folded]) at a piece end.
+    fn end_signs(&self, k: usize, bits: &[bool], end: &Endpoint<T>) -> [Sign; 2] {
+        let at = Place { lambda: end.lambda.to_f64(), events: &end.events };
+        let s = self.cert.slack_signs(bits, at, &[(k, Kind::Stretched), (k, Kind::Folded)]);
+        [s[0], s[1]]
+    }
+
+    /// The roots of d_k = target strictly inside `piece`, and at its ends
+    /// where step k's slack is proven zero there (`ends`: [lo, hi] signs).
+    fn roots(&mut self, k: usize, bits: &[bool], piece: &Piece<T>, ends: [[Sign; 2]; 2]) -> Vec<Root<T>> {
         let scale = T::from_f64(self.con.scale);
-        let coincide = T::from_f64(tolerance::EVENTS_COINCIDE) * scale;
         let (lo, hi) = (piece.lo.lambda, piece.hi.lambda);
         let mut roots = Vec::new();
         for (ki, kind) in [Kind::Stretched, Kind::Folded].into_iter().enumerate() {
             let t = self.target(k, kind);
             let candidates: Vec<T> = match &self.exact[k] {
-                Some(c) => c[ki].iter().copied().filter(|&x| x >= lo - coincide && x <= hi + coincide).collect(),
-                None => self.numeric_roots(k, bits, piece, t),
+                Some(c) => c[ki].iter().copied().filter(|&x| x > lo && x < hi).collect(),
+                None => self.numeric_roots(k, bits, piece, t).into_iter().filter(|&x| x > lo && x < hi).collect(),
             };
-            for lambda in candidates {
-                let at = if (lambda - lo).abs() <= coincide {
-                    At::Lo
-                } else if (lambda - hi).abs() <= coincide {
-                    At::Hi
-                } else {
-                    At::Inside
-                };
-                let lambda = match at {
-                    At::Lo => lo,
-                    At::Hi => hi,
-                    At::Inside => lambda,
-                };
+            let at_ends = [(lo, At::Lo, ends[0][ki]), (hi, At::Hi, ends[1][ki])];
+            let flat_ends = at_ends.into_iter().filter(|e| e.2 == Sign::Zero).map(|(x, at, _)| (x, at));
+            for (lambda, at) in candidates.into_iter().map(|x| (x, At::Inside)).chain(flat_ends) {
                 let Some(d) = self.distance(k, bits, lambda) else { continue };
                 let g = d - Jet::constant(t);
                 // Closed-form candidates must prove they are roots of this prefix;
                 // numeric ones are bracketed sign changes, roots by construction.
-                let accepted = self.exact[k].is_none()
+                let accepted = at != At::Inside
+                    || self.exact[k].is_none()
                     || g.v.abs() <= T::from_f64(tolerance::ROOT_VALUE) * scale
                     || self.brackets_root(k, bits, lambda, g, t);
                 if !accepted || !(g.d.to_f64().is_finite() || at != At::Inside) {
@@ -342,38 +348,64 @@ impl<T: Real> Sweep<'_, T> {
     }
 
     /// Split `piece` by the slack of step k into the parts where it closes.
+    ///
+    /// Whether step k is also flat at an end of the piece (two events at one
+    /// λ) is the proven sign of its slack there ([`Certifier`]), and whether
+    /// it closes on a gap between roots is the proven sign at a point inside
+    /// the gap; the slopes at the roots only decide gaps too narrow to hold
+    /// a point of their own.
     fn refine(&mut self, k: usize, bits: &[bool], piece: Piece<T>) -> Vec<Piece<T>> {
-        let roots = self.roots(k, bits, &piece);
+        let ends = [self.end_signs(k, bits, &piece.lo), self.end_signs(k, bits, &piece.hi)];
+        let roots = self.roots(k, bits, &piece, ends);
         if piece.lo.lambda == piece.hi.lambda {
-            return self.refine_point(k, bits, piece, &roots);
+            return self.refine_point(k, piece, &roots, ends[0]);
         }
         let event = |r: &Root<T>| Event { step: k, kind: r.kind };
-        let inside: Vec<Root<T>> = roots.iter().copied().filter(|r| r.at == At::Inside).collect();
+        let mut inside: Vec<Root<T>> = roots.iter().copied().filter(|r| r.at == At::Inside).collect();
         let at_lo: Vec<Root<T>> = roots.iter().copied().filter(|r| r.at == At::Lo).collect();
         let at_hi: Vec<Root<T>> = roots.iter().copied().filter(|r| r.at == At::Hi).collect();
         // Boundaries and the feasibility of each gap between them.
+        let mut feasible: Vec<bool> = Vec::with_capacity(inside.len() + 1);
         let n_gaps = inside.len() + 1;
-        let mut feasible = vec![false; n_gaps];
-        for (g, slot) in feasible.iter_mut().enumerate() {
-            let from_left = if g == 0 { at_lo.first().map(|r| r.right) } else { Some(inside[g - 1].right) };
-            let from_right = if g == n_gaps - 1 { at_hi.first().map(|r| r.left) } else { Some(inside[g].left) };
+        for g in 0..n_gaps {
             let a = if g == 0 { piece.lo.lambda } else { inside[g - 1].lambda };
             let b = if g == n_gaps - 1 { piece.hi.lambda } else { inside[g].lambda };
-            *slot = match (from_left.filter(|&s| s != 0), from_right.filter(|&s| s != 0)) {
-                (Some(x), Some(y)) if x == y => x > 0,
-                (Some(x), None) | (None, Some(x)) => x > 0,
-                (l, r) => {
-                    if l.is_some() && r.is_some() {
-                        self.notes.push(Note::Unresolved {
-                            lambda: a.to_f64(),
-                            step: k,
-                            detail: "the slack's sign on one gap disagrees between its two roots".into(),
-                        });
+            let proven = self.gap_closes(k, bits, a, b);
+            let slot = proven.unwrap_or_else(|| {
+                let from_left = if g == 0 { at_lo.first().map(|r| r.right) } else { Some(inside[g - 1].right) };
+                let from_right = if g == n_gaps - 1 { at_hi.first().map(|r| r.left) } else { Some(inside[g].left) };
+                match (from_left.filter(|&s| s != 0), from_right.filter(|&s| s != 0)) {
+                    (Some(x), Some(y)) if x == y => x > 0,
+                    (Some(x), None) | (None, Some(x)) => x > 0,
+                    (l, r) => {
+                        if l.is_some() && r.is_some() {
+                            self.notes.push(Note::Unresolved {
+                                lambda: a.to_f64(),
+                                step: k,
+                                detail: "the slack's sign on one gap disagrees between its two roots".into(),
+                            });
+                        }
+                        self.gap_sign(k, bits, a, b) > 0
                     }
-                    self.gap_sign(k, bits, a, b) > 0
                 }
-            };
+            });
+            feasible.push(slot);
         }
+        // A root with the same feasibility on both sides is a touch only if
+        // the slack is proven zero there; otherwise it is no root of this
+        // prefix (a candidate of another branch, or one root found twice).
+        let mut g = 0;
+        while g < inside.len() {
+            let r = inside[g];
+            let same = feasible[g] == feasible[g + 1];
+            if same && self.cert.slack_sign(bits, Place { lambda: r.lambda.to_f64(), events: &[] }, k, r.kind) != Sign::Zero {
+                inside.remove(g);
+                feasible.remove(g + 1);
+            } else {
+                g += 1;
+            }
+        }
+        let n_gaps = inside.len() + 1;
         // Walk the gaps, emitting maximal feasible runs and isolated roots.
         let mut out = Vec::new();
         let mut start: Option<Endpoint<T>> = None;
@@ -413,19 +445,33 @@ impl<T: Real> Sweep<'_, T> {
         out
     }
 
-    /// An isolated point from earlier steps survives step k if k closes there.
-    fn refine_point(&mut self, k: usize, bits: &[bool], piece: Piece<T>, roots: &[Root<T>]) -> Vec<Piece<T>> {
+    /// Whether step k closes on the open gap (a, b) between two roots, from
+    /// the proven sign at its midpoint; `None` when the gap holds no point
+    /// of its own or the sign is not proven (the caller then reads the
+    /// slopes at its roots).
+    fn gap_closes(&self, k: usize, bits: &[bool], a: T, b: T) -> Option<bool> {
+        let mid = ((a + b) / T::from_f64(2.0)).to_f64();
+        let inside = T::from_f64(mid) > a && T::from_f64(mid) < b;
+        match inside.then(|| self.cert.closes_sign(bits, mid, k))? {
+            Sign::Positive => Some(true),
+            Sign::Negative => Some(false),
+            Sign::Zero => None,
+        }
+    }
+
+    /// An isolated point from earlier steps survives step k if k closes
+    /// there (proven signs of both slacks, `signs`); where k is flat too,
+    /// the point gains its event.
+    fn refine_point(&mut self, k: usize, piece: Piece<T>, roots: &[Root<T>], signs: [Sign; 2]) -> Vec<Piece<T>> {
+        if signs.contains(&Sign::Negative) {
+            return Vec::new();
+        }
         let flat: Vec<Root<T>> = roots.iter().copied().filter(|r| r.at != At::Inside).collect();
         if !flat.is_empty() {
             let lo = self.with_coincident(piece.lo, &flat, k);
             return vec![Piece { lo: lo.clone(), hi: lo }];
         }
-        let lambda = piece.lo.lambda;
-        let ok = self.distance(k, bits, lambda).is_some_and(|d| {
-            let s = &self.con.steps[k];
-            crate::realize::slack(s.r1, s.r2, d.v) >= T::zero()
-        });
-        if ok { vec![piece] } else { Vec::new() }
+        vec![piece]
     }
 
     /// Add step k's flat events at an inherited endpoint (two steps flat at once).

@@ -16,6 +16,7 @@ pub mod bench;
 pub mod builder;
 pub mod bundled;
 pub mod cayley_space;
+pub mod certify;
 pub mod commands;
 pub mod complexity;
 pub mod decompose;
