@@ -110,7 +110,7 @@ impl Solved {
             return None;
         }
         let jet = self.construction.convert::<Jet<f64>>();
-        let more = component_through(&self.construction, &jet, &r.ty, r.lambda, LazyOptions::default()).ok()?;
+        let more = component_through(&self.construction, &self.certifier, &jet, &r.ty, r.lambda, LazyOptions::default()).ok()?;
         let offset = self.space.intervals.iter().map(|i| i.lower.id.max(i.upper.id)).max().unwrap_or(0);
         for mut iv in more.intervals {
             iv.lower.id += offset;
@@ -151,11 +151,12 @@ pub fn reference_constructions(
 pub fn lazy_reference_accuracy(
     linkage: &Linkage,
     dec: &Decomposition,
+    cert: &Certifier,
     drawn: &Drawn,
     space: &CayleySpace<f64>,
 ) -> Option<Accuracy> {
     let (con, jet) = reference_constructions(linkage, dec)?;
-    let reference = component_through(&con, &jet, &drawn.ty, Dd::new(drawn.lambda), LazyOptions::default()).ok()?;
+    let reference = component_through(&con, cert, &jet, &drawn.ty, Dd::new(drawn.lambda), LazyOptions::default()).ok()?;
     Some(compare_runs(&reference.intervals, &space.intervals, linkage.scale))
 }
 
@@ -251,7 +252,7 @@ pub fn analyse_with(scene: Scene, base_override: Option<[usize; 2]>, scope: Scop
     let space = if lazy {
         timings.time("lazy_component", || {
             let jet = construction.convert::<Jet<f64>>();
-            component_through(&construction, &jet, &drawn.ty, drawn.lambda, LazyOptions::default()).unwrap_or_else(
+            component_through(&construction, &certifier, &jet, &drawn.ty, drawn.lambda, LazyOptions::default()).unwrap_or_else(
                 |_| CayleySpace {
                     intervals: Vec::new(),
                     notes: Vec::new(),
@@ -268,7 +269,7 @@ pub fn analyse_with(scene: Scene, base_override: Option<[usize; 2]>, scope: Scop
     let union = union(&space.intervals, linkage.scale);
     let accuracy = if lazy {
         (dec.steps.len() <= LAZY_REFERENCE_MAX_STEPS && !space.intervals.is_empty())
-            .then(|| timings.time("reference", || lazy_reference_accuracy(&linkage, &dec, &drawn, &space)))
+            .then(|| timings.time("reference", || lazy_reference_accuracy(&linkage, &dec, &certifier, &drawn, &space)))
             .flatten()
     } else if space.intervals.len() <= REFERENCE_MAX_TYPES {
         timings.time("reference", || reference_accuracy(&linkage, &dec, &complexity, &certifier, &space))

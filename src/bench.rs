@@ -90,12 +90,13 @@ pub fn scaling_row(family: &str, scene: crate::scene::Scene, repeat: usize) -> O
     let dec = dec.ok()?.ok()?;
     let con = Construction::<f64>::new(&linkage, &dec).ok()?;
     let jet = con.convert::<Jet<f64>>();
+    let cert = crate::certify::Certifier::new(&linkage, &dec)?;
     let drawn = crate::realize::drawn_realization(&linkage, &dec);
-    let walk = || component_through(&con, &jet, &drawn.ty, drawn.lambda, LazyOptions::default());
+    let walk = || component_through(&con, &cert, &jet, &drawn.ty, drawn.lambda, LazyOptions::default());
     let (lazy_us, space) = median_us(repeat, walk);
     let space = space.ok()?;
     let max_endpoint_error = (dec.steps.len() <= crate::analysis::LAZY_REFERENCE_MAX_STEPS)
-        .then(|| crate::analysis::lazy_reference_accuracy(&linkage, &dec, &drawn, &space))
+        .then(|| crate::analysis::lazy_reference_accuracy(&linkage, &dec, &cert, &drawn, &space))
         .flatten()
         .map(|a| if a.same_structure { a.max_relative_error } else { f64::INFINITY });
     let n = dec.steps.len();
@@ -206,11 +207,11 @@ pub fn bench_scene(a: &Analysis, s: &Solved, repeat: usize) -> (Vec<MethodRow>, 
     if s.lazy {
         // Too many types to enumerate: only the lazy walk, against its double-double twin.
         let (t, walked) =
-            median_us(repeat, || component_through(con, &jet, &s.drawn.ty, s.drawn.lambda, LazyOptions::default()));
+            median_us(repeat, || component_through(con, &s.certifier, &jet, &s.drawn.ty, s.drawn.lambda, LazyOptions::default()));
         let accuracy = walked
             .as_ref()
             .ok()
-            .and_then(|w| crate::analysis::lazy_reference_accuracy(&a.linkage, &s.dec, &s.drawn, w));
+            .and_then(|w| crate::analysis::lazy_reference_accuracy(&a.linkage, &s.dec, &s.certifier, &s.drawn, w));
         let n = walked.map_or(0, |w| w.intervals.len());
         let row = MethodRow {
             scene: name,
@@ -270,7 +271,7 @@ pub fn bench_scene(a: &Analysis, s: &Solved, repeat: usize) -> (Vec<MethodRow>, 
         let reference_component: Vec<Span> =
             reference.iter().filter(|r| component.iter().any(|c| overlaps(r, c))).cloned().collect();
         let (t, walked) =
-            median_us(repeat, || component_through(con, &jet, &s.drawn.ty, s.drawn.lambda, LazyOptions::default()));
+            median_us(repeat, || component_through(con, &s.certifier, &jet, &s.drawn.ty, s.drawn.lambda, LazyOptions::default()));
         if let Ok(walked) = walked {
             let got = spans(&walked);
             let (max_endpoint_error, missed, spurious) = compare(&got, &reference_component, scale);

@@ -302,7 +302,7 @@ impl<T: Real> Sweep<'_, T> {
         let scale = T::from_f64(self.con.scale);
         let (lo, hi) = (piece.lo.lambda, piece.hi.lambda);
         let mut roots = Vec::new();
-        for (ki, kind) in [Kind::Stretched, Kind::Folded].into_iter().enumerate() {
+        for (ki, &kind) in self.cert.kinds(k).iter().enumerate() {
             let t = self.target(k, kind);
             let candidates: Vec<T> = match &self.exact[k] {
                 Some(c) => c[ki].iter().copied().filter(|&x| x > lo && x < hi).collect(),
@@ -455,7 +455,7 @@ impl<T: Real> Sweep<'_, T> {
         match inside.then(|| self.cert.closes_sign(bits, mid, k))? {
             Sign::Positive => Some(true),
             Sign::Negative => Some(false),
-            Sign::Zero => None,
+            Sign::Zero | Sign::Undefined => None,
         }
     }
 

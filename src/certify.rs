@@ -15,18 +15,23 @@
 //! λ* lies inside), and the other slacks are evaluated on that whole
 //! bracket with the flat steps placed exactly flat — the realization at λ*.
 
+use std::cell::Cell;
+
 use crate::cayley_space::{Event, Kind};
 use crate::decompose::Decomposition;
 use crate::linkage::Linkage;
 use crate::real::{Ball, Dd, Jet, Real};
 use crate::realize::Construction;
 
-/// A proven sign; `Zero` when not even double-double separates the value from 0.
+/// A proven sign; `Zero` when not even double-double separates the value
+/// from 0; `Undefined` when an earlier step cannot close there, so the
+/// question has no answer.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Sign {
     Negative,
     Zero,
     Positive,
+    Undefined,
 }
 
 impl Sign {
@@ -40,7 +45,16 @@ impl Sign {
 pub struct Certifier {
     f64_balls: Construction<Ball<f64>>,
     dd_balls: Construction<Ball<Dd>>,
+    f64_plain: Construction<f64>,
+    dd_plain: Construction<Dd>,
     dd_jets: Construction<Jet<Dd>>,
+    estimated: Cell<usize>,
+}
+
+/// One slack evaluated in balls.
+struct Value {
+    proven: Option<Sign>,
+    midpoint: Option<f64>,
 }
 
 /// Where a question is asked: a λ, and the steps flat there (empty for a
@@ -56,8 +70,31 @@ impl Certifier {
         Some(Certifier {
             f64_balls: Construction::new(linkage, dec).ok()?,
             dd_balls: Construction::new(linkage, dec).ok()?,
+            f64_plain: Construction::new(linkage, dec).ok()?,
+            dd_plain: Construction::new(linkage, dec).ok()?,
             dd_jets: Construction::new(linkage, dec).ok()?,
+            estimated: Cell::new(0),
         })
+    }
+
+    /// The ways step k can stop closing. With equal sides (r1 = r2, proven
+    /// in double-double) the folded slack is d ≥ 0 itself: it never goes
+    /// negative, and d = 0 is a degenerate step (its base joints coincide,
+    /// as in a rhombus), not an interval end.
+    pub fn kinds(&self, k: usize) -> &'static [Kind] {
+        let s = &self.dd_balls.steps[k];
+        if (s.r1 - s.r2).sign().is_none() { &[Kind::Stretched] } else { &[Kind::Stretched, Kind::Folded] }
+    }
+
+    /// Whether two steps are flat at the same base length: the proven sign
+    /// of `a`'s flat distance minus `b`'s (for steps on the base, whose
+    /// flat distances are the λ of their events).
+    pub fn target_sign(&self, a: Event, b: Event) -> Sign {
+        fn diff<T: Real>(con: &Construction<Ball<T>>, a: Event, b: Event) -> Option<i8> {
+            let (sa, sb) = (&con.steps[a.step], &con.steps[b.step]);
+            (a.kind.target(sa.r1, sa.r2) - b.kind.target(sb.r1, sb.r2)).sign()
+        }
+        Sign::of(diff(&self.f64_balls, a, b).or_else(|| diff(&self.dd_balls, a, b))).unwrap_or(Sign::Zero)
     }
 
     /// The proven sign of step `k`'s slack for `kind` at `at`, for the type
@@ -70,53 +107,84 @@ impl Certifier {
     /// sharing the realizations.
     pub fn slack_signs(&self, bits: &[bool], at: At, questions: &[(usize, Kind)]) -> Vec<Sign> {
         let upto = questions.iter().map(|&(k, _)| k).max().unwrap_or(0);
-        let mut out: Vec<Option<Sign>> = vec![None; questions.len()];
         let lambda = Dd::new(at.lambda);
-        if let Some(l) = self.bracket(&self.f64_balls, bits, at, lambda) {
-            self.decide(&self.f64_balls, bits, at.events, l, upto, questions, &mut out);
+        let fast = self.evaluate(&self.f64_balls, &self.f64_plain, bits, at, lambda, upto, questions);
+        if fast.iter().all(|v| v.proven.is_some()) {
+            return fast.into_iter().map(|v| v.proven.expect("all proven")).collect();
         }
-        if out.iter().any(Option::is_none) {
-            let refined = self.refine_dd(bits, at, lambda);
-            if let Some(l) = self.bracket(&self.dd_balls, bits, at, refined) {
-                self.decide(&self.dd_balls, bits, at.events, l, upto, questions, &mut out);
-            }
-        }
-        out.into_iter().map(|s| s.unwrap_or(Sign::Zero)).collect()
+        let refined = self.refine_dd(bits, at, lambda);
+        let fine = self.evaluate(&self.dd_balls, &self.dd_plain, bits, at, refined, upto, questions);
+        fast.iter().zip(&fine).map(|(f, d)| f.proven.or(d.proven).unwrap_or_else(|| self.estimate(f, d))).collect()
+    }
+
+    /// A sign the balls could not prove: ball radii grow with every level of
+    /// a deep construction far faster than the real error, so past them the
+    /// double-double value decides when it exceeds its error estimated as
+    /// the f64 error (f64 − double-double) scaled to double-double precision
+    /// with a margin of 2^10; otherwise the value is taken as zero. Counted
+    /// in [`Self::estimated`].
+    fn estimate(&self, f: &Value, d: &Value) -> Sign {
+        let (Some(x), Some(y)) = (f.midpoint, d.midpoint) else {
+            return if f.midpoint.is_none() && d.midpoint.is_none() { Sign::Undefined } else { Sign::Zero };
+        };
+        self.estimated.set(self.estimated.get() + 1);
+        let error = (x - y).abs() * (Dd::UNIT_ROUNDOFF / f64::UNIT_ROUNDOFF) * 1024.0 + 64.0 * Dd::UNIT_ROUNDOFF * self.f64_balls.scale;
+        if y.abs() > error { if y > 0.0 { Sign::Positive } else { Sign::Negative } } else { Sign::Zero }
+    }
+
+    /// How many decisions so far rested on [`Self::estimate`] rather than a proof.
+    pub fn estimated(&self) -> usize {
+        self.estimated.get()
     }
 
     /// The proven sign of step `k`'s slack (both kinds: positive where the
-    /// triangle closes) at a λ inside an interval (taken as exact).
+    /// triangle closes) at a λ inside an interval (taken as exact); `Zero`
+    /// also where the step's base joints may coincide.
     pub fn closes_sign(&self, bits: &[bool], lambda: f64, k: usize) -> Sign {
         let at = At { lambda, events: &[] };
+        // Both kinds even with equal sides: the folded slack is then d itself,
+        // and d not proven positive is a degenerate step (base joints together).
         let signs = self.slack_signs(bits, at, &[(k, Kind::Stretched), (k, Kind::Folded)]);
-        match (signs[0], signs[1]) {
-            (Sign::Negative, _) | (_, Sign::Negative) => Sign::Negative,
-            (Sign::Positive, Sign::Positive) => Sign::Positive,
-            _ => Sign::Zero,
+        if signs.contains(&Sign::Negative) {
+            Sign::Negative
+        } else if signs.iter().all(|&s| s == Sign::Positive) {
+            Sign::Positive
+        } else {
+            Sign::Zero
         }
     }
 
-    /// Answer what `con`'s balls can prove on the λ enclosure `l`.
+    /// Each question's slack at `at` in `con`'s balls: its proven sign, and
+    /// its midpoint (the plain value in `T`). Without a proven bracket of
+    /// the end, nothing is proven and the midpoints are taken at `lambda`.
     #[allow(clippy::too_many_arguments)]
-    fn decide<T: Real>(
+    fn evaluate<T: Real>(
         &self,
         con: &Construction<Ball<T>>,
+        plain: &Construction<T>,
         bits: &[bool],
-        events: &[Event],
-        l: Ball<T>,
+        at: At,
+        lambda: Dd,
         upto: usize,
         questions: &[(usize, Kind)],
-        out: &mut [Option<Sign>],
-    ) {
-        let flat: Vec<usize> = events.iter().map(|e| e.step).filter(|&s| s < upto).collect();
-        let Ok(pos) = con.realize_flat(l, bits, upto, &flat) else { return };
-        for (slot, &(k, kind)) in out.iter_mut().zip(questions) {
-            if slot.is_none() {
-                let s = &con.steps[k];
-                let d = con.base_distance(&pos, k);
-                *slot = Sign::of(kind.slack_value(s.r1, s.r2, d).sign());
-            }
-        }
+    ) -> Vec<Value> {
+        let bracket = self.bracket(con, bits, at, lambda);
+        let flat: Vec<usize> = at.events.iter().map(|e| e.step).filter(|&s| s < upto).collect();
+        let balls = bracket.map(|l| con.base_distances_flat(l, bits, upto, &flat)).unwrap_or_default();
+        let values = plain.base_distances_flat(T::from_dd(lambda), bits, upto, &flat);
+        questions
+            .iter()
+            .map(|&(k, kind)| {
+                let proven = match balls.get(k) {
+                    Some(&d) => Sign::of(kind.slack_value(con.steps[k].r1, con.steps[k].r2, d).sign()),
+                    // Steps after the first that cannot close have no distance.
+                    None => bracket.map(|_| Sign::Undefined),
+                };
+                let s = &plain.steps[k];
+                let midpoint = values.get(k).map(|&d| kind.slack_value(s.r1, s.r2, d).to_f64()).filter(|m| m.is_finite());
+                Value { proven, midpoint }
+            })
+            .collect()
     }
 
     /// An enclosure of the end λ* near `lambda`: for an end with a flat step,

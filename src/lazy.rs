@@ -28,6 +28,7 @@
 //! iteration on step k; nothing is exponential in the depth.
 
 use crate::cayley_space::{CayleySpace, Endpoint, Event, Kind, Method, Note, OrientedInterval};
+use crate::certify::{At, Certifier, Sign};
 use crate::real::{Jet, Real};
 use crate::realize::{Construction, RealizationType, Unrealizable};
 use crate::tolerance;
@@ -53,13 +54,14 @@ impl Default for LazyOptions {
 /// Errors when the start itself has no realization.
 pub fn component_through<T: Real>(
     con: &Construction<T>,
+    cert: &Certifier,
     jet: &Construction<Jet<T>>,
     ty: &RealizationType,
     lambda: T,
     options: LazyOptions,
 ) -> Result<CayleySpace<T>, Unrealizable> {
     con.realize(lambda, ty)?;
-    let mut walker = Walker::new(con, jet, options);
+    let mut walker = Walker::new(con, cert, jet, options);
     let mut intervals = walker.component(ty, lambda);
     // Sorted as the exhaustive sweep sorts, so that the component's traversal
     // starts (and turns) the same way: from its least type's interval, upward.
@@ -104,10 +106,13 @@ enum End<T> {
 
 struct Walker<'a, T: Real> {
     con: &'a Construction<T>,
+    cert: &'a Certifier,
     jet: &'a Construction<Jet<T>>,
     options: LazyOptions,
     /// Steps on the base need |r1 − r2| ≤ λ ≤ r1 + r2: the walk never leaves this range.
     range: [T; 2],
+    /// The on-base steps flat at each end of `range`.
+    range_events: [Vec<Event>; 2],
     coincide: T,
     root_value: T,
     next_id: usize,
@@ -124,23 +129,40 @@ fn between<T: Real>(x: T, a: T, b: T) -> bool {
 }
 
 impl<'a, T: Real> Walker<'a, T> {
-    fn new(con: &'a Construction<T>, jet: &'a Construction<Jet<T>>, options: LazyOptions) -> Self {
+    fn new(con: &'a Construction<T>, cert: &'a Certifier, jet: &'a Construction<Jet<T>>, options: LazyOptions) -> Self {
         let mut range = [T::zero(), T::from_f64(f64::INFINITY)];
-        for s in (0..con.steps.len()).filter(|&k| con.on_base(k)).map(|k| &con.steps[k]) {
+        let mut limits: [Option<Event>; 2] = [None, None];
+        for k in (0..con.steps.len()).filter(|&k| con.on_base(k)) {
+            let s = &con.steps[k];
             let (lo, hi) = (Kind::Folded.target(s.r1, s.r2), Kind::Stretched.target(s.r1, s.r2));
-            if lo > range[0] {
+            if lo > range[0] && cert.kinds(k).contains(&Kind::Folded) {
                 range[0] = lo;
+                limits[0] = Some(Event { step: k, kind: Kind::Folded });
             }
             if hi < range[1] {
                 range[1] = hi;
+                limits[1] = Some(Event { step: k, kind: Kind::Stretched });
             }
         }
+        // Other on-base steps flat at the same end (proven, not by value).
+        let range_events = [0, 1].map(|side| {
+            let Some(first) = limits[side] else { return Vec::new() };
+            let others = (0..con.steps.len())
+                .filter(|&k| con.on_base(k) && k != first.step)
+                .flat_map(|k| cert.kinds(k).iter().map(move |&kind| Event { step: k, kind }));
+            let mut events = vec![first];
+            events.extend(others.filter(|&e| cert.target_sign(e, first) == Sign::Zero));
+            events.sort();
+            events
+        });
         let scale = T::from_f64(con.scale);
         Walker {
             con,
+            cert,
             jet,
             options,
             range,
+            range_events,
             coincide: T::from_f64(tolerance::EVENTS_COINCIDE) * scale,
             root_value: T::from_f64(tolerance::ROOT_VALUE) * scale,
             next_id: 0,
@@ -169,8 +191,7 @@ impl<'a, T: Real> Walker<'a, T> {
     /// folded slack is d ≥ 0 itself: it never goes negative, and d = 0 is a
     /// degenerate step (its base joints coincide), not an end.
     fn kinds(&self, k: usize) -> &'static [Kind] {
-        let s = &self.con.steps[k];
-        if s.r1 == s.r2 { &[Kind::Stretched] } else { &[Kind::Stretched, Kind::Folded] }
+        self.cert.kinds(k)
     }
 
     /// Step k's slack at λ alone (realizing only the steps before it).
@@ -330,9 +351,8 @@ impl<'a, T: Real> Walker<'a, T> {
                 Some((at, _)) if *at == x => found.clone().or(approaching.take()),
                 _ => found.clone().filter(|(lambda, _)| (*lambda - near.lambda).abs() <= finest),
             };
-            if let Some((lambda, mut events)) = verified {
-                self.coincident_beyond(bits, lambda, dir, &mut events);
-                return End::Events(lambda, events);
+            if let Some((lambda, events)) = verified {
+                return End::Events(lambda, self.proven_events(bits, lambda, events));
             }
             match found {
                 Some((lambda, events)) => {
@@ -394,34 +414,37 @@ impl<'a, T: Real> Walker<'a, T> {
         true
     }
 
+    /// The on-base steps flat at λ when λ is an end of the base's range.
     fn flat_on_base(&self, lambda: T) -> Vec<Event> {
-        let mut out = Vec::new();
-        for k in (0..self.con.steps.len()).filter(|&k| self.con.on_base(k)) {
-            let s = &self.con.steps[k];
-            for kind in [Kind::Stretched, Kind::Folded] {
-                if (lambda - kind.target(s.r1, s.r2)).abs() <= self.coincide {
-                    out.push(Event { step: k, kind });
-                }
-            }
-        }
-        out
+        (0..2).find(|&side| self.range[side] == lambda).map(|side| self.range_events[side].clone()).unwrap_or_default()
     }
 
-    /// Steps (not yet listed) whose root lies within the coincidence
-    /// tolerance beyond an end: they are flat there too, as the exhaustive
-    /// sweep would say.
-    fn coincident_beyond(&self, bits: &[bool], lambda: T, dir: T, events: &mut Vec<Event>) {
-        let p = self.probe(bits, lambda + dir * self.coincide);
-        for (k, d) in p.d.iter().enumerate() {
-            if events.iter().any(|e| e.step == k) {
+    /// The steps flat at an end found at λ through `events`, proven: a
+    /// step whose slack is negative there failed first (its root and the
+    /// found one are closer than f64 resolves), so the end is that step's;
+    /// every step whose slack is zero to double-double resolution is flat
+    /// there too (a non-generic end).
+    fn proven_events(&self, bits: &[bool], lambda: T, mut events: Vec<Event>) -> Vec<Event> {
+        let questions: Vec<(usize, Kind)> =
+            (0..self.con.steps.len()).flat_map(|k| self.kinds(k).iter().map(move |&kind| (k, kind))).collect();
+        for _ in 0..self.con.steps.len() {
+            let at = At { lambda: lambda.to_f64(), events: &events[..1] };
+            let signs = self.cert.slack_signs(bits, at, &questions);
+            let listed = |e: &Event| events[..1].iter().any(|x| x.step == e.step);
+            let candidates = questions.iter().zip(&signs).map(|(&(step, kind), &s)| (Event { step, kind }, s));
+            let failed = candidates.clone().find(|(e, s)| *s == Sign::Negative && !listed(e));
+            if let Some((e, _)) = failed {
+                events = vec![e];
                 continue;
             }
-            for &kind in self.kinds(k) {
-                if self.slack(k, kind, *d, dir).v < T::zero() {
-                    events.push(Event { step: k, kind });
-                }
-            }
+            let first = events[0];
+            events = vec![first];
+            events.extend(candidates.filter(|(e, s)| *s == Sign::Zero && e.step != first.step).map(|(e, _)| e));
+            break;
         }
+        events.sort();
+        events.dedup_by_key(|e| e.step);
+        events
     }
 
     /// The first end in the gap (near, right] between two samples, if any.

@@ -362,6 +362,18 @@ impl<T: Real> Construction<T> {
         d
     }
 
+    /// [`Self::base_distances`] with the steps in `flat` placed exactly flat,
+    /// up to step `upto` (included when every step before it closes; `bits`
+    /// needs `upto` of them).
+    pub fn base_distances_flat(&self, lambda: T, bits: &[bool], upto: usize, flat: &[usize]) -> Vec<T> {
+        let mut d = Vec::with_capacity(upto + 1);
+        let tol = tolerance::FEASIBLE * self.scale;
+        if let Ok(pos) = self.realize_steps(lambda, bits, upto, flat, tol, Some(&mut d)) {
+            d.push(self.base_distance(&pos, upto));
+        }
+        d
+    }
+
     /// Realize with an absolute slack tolerance `tol` instead of the scaled
     /// one (for the classic fixed-tolerance baseline in `bench`).
     pub fn realize_with_tolerance(&self, lambda: T, bits: &[bool], tol: f64) -> Result<Vec<P2<T>>, Unrealizable> {

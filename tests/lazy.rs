@@ -51,7 +51,7 @@ fn check_scene(scene: Scene) -> Result<usize, String> {
     for (k, c) in s.components.list.iter().enumerate() {
         let first = &s.space.intervals[c.intervals[0]];
         let start = 0.5 * (first.lower.lambda + first.upper.lambda);
-        let lazy = component_through(&s.construction, &jet, &first.ty, start, LazyOptions::default())
+        let lazy = component_through(&s.construction, &s.certifier, &jet, &first.ty, start, LazyOptions::default())
             .map_err(|e| format!("{name}: component {k}: start not realizable: {e:?}"))?;
         let lazy_components = components(&lazy);
         if lazy_components.list.len() != 1 {
