@@ -62,7 +62,10 @@ pub fn component_through<T: Real>(
 ) -> Result<CayleySpace<T>, Unrealizable> {
     con.realize(lambda, ty)?;
     let mut walker = Walker::new(con, cert, jet, options);
-    let mut intervals = walker.component(ty, lambda);
+    let mut intervals = match walker.isolated_start(ty, lambda) {
+        Some(points) => points,
+        None => walker.component(ty, lambda),
+    };
     // Sorted as the exhaustive sweep sorts, so that the component's traversal
     // starts (and turns) the same way: from its least type's interval, upward.
     intervals.sort_by(|a, b| {
@@ -199,6 +202,31 @@ impl<'a, T: Real> Walker<'a, T> {
         let pos = self.jet.realize_prefix(Jet::variable(lambda), s.bits, s.k).ok()?;
         let d = self.jet.base_distance(&pos, s.k);
         d.v.to_f64().is_finite().then(|| self.slack(s.k, s.kind, d, s.dir))
+    }
+
+    /// A start at a tangency that is an isolated point (a step's slack is
+    /// zero there to double-double resolution and proven negative on both
+    /// sides, as the exhaustive sweep decides it): the component is that
+    /// point in the type and in the type with the flat step's bit flipped.
+    /// `None` for any other start.
+    fn isolated_start(&mut self, ty: &RealizationType, lambda: T) -> Option<Vec<OrientedInterval<T>>> {
+        let n = self.con.steps.len();
+        let questions: Vec<(usize, Kind)> = (0..n).flat_map(|k| self.kinds(k).iter().map(move |&kind| (k, kind))).collect();
+        let l = lambda.to_f64();
+        let at = |x: f64| At { lambda: x, events: &[] };
+        let here = self.cert.slack_signs(&ty.0, at(l), &questions);
+        let (k, kind) = questions.iter().zip(&here).find(|(_, s)| **s == Sign::Zero).map(|(q, _)| *q)?;
+        // A side offset far above double-double resolution and far below any feature.
+        let h = 1e-9 * self.con.scale;
+        let side = |x: f64| self.cert.slack_sign(&ty.0, at(x), k, kind);
+        if side(l - h) != Sign::Negative || side(l + h) != Sign::Negative {
+            return None;
+        }
+        let event = Event { step: k, kind };
+        self.notes.push(Note::Tangency { lambda: l, event, inside: false });
+        let p = self.endpoint(lambda, vec![event]);
+        let point = |t: RealizationType| OrientedInterval { ty: t, lower: p.clone(), upper: p.clone() };
+        Some(vec![point(ty.clone()), point(ty.flipped(k))])
     }
 
     /// The whole component through (ty, λ): its start interval, then the
