@@ -20,7 +20,7 @@
 
 use std::cmp::Ordering;
 
-use crate::certify::{At as Place, Certifier, Sign};
+use crate::certify::{At as Place, Certifier, Closes, Sign};
 use crate::complexity::Complexity;
 use crate::decompose::Decomposition;
 use crate::invert::Inverter;
@@ -449,13 +449,17 @@ impl<T: Real> Sweep<'_, T> {
     /// the proven sign at its midpoint; `None` when the gap holds no point
     /// of its own or the sign is not proven (the caller then reads the
     /// slopes at its roots).
-    fn gap_closes(&self, k: usize, bits: &[bool], a: T, b: T) -> Option<bool> {
+    fn gap_closes(&mut self, k: usize, bits: &[bool], a: T, b: T) -> Option<bool> {
         let mid = ((a + b) / T::from_f64(2.0)).to_f64();
         let inside = T::from_f64(mid) > a && T::from_f64(mid) < b;
-        match inside.then(|| self.cert.closes_sign(bits, mid, k))? {
-            Sign::Positive => Some(true),
-            Sign::Negative => Some(false),
-            Sign::Zero | Sign::Undefined => None,
+        match inside.then(|| self.cert.closes(bits, mid, k))? {
+            Closes::Yes => Some(true),
+            Closes::No => Some(false),
+            Closes::Degenerate => {
+                self.notes.push(Note::Degenerate { lambda: [a.to_f64(), b.to_f64()], step: k });
+                Some(false)
+            }
+            Closes::Unknown => None,
         }
     }
 

@@ -51,6 +51,15 @@ pub struct Certifier {
     estimated: Cell<usize>,
 }
 
+/// Whether a step closes at a point (see [`Certifier::closes`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Closes {
+    Yes,
+    No,
+    Degenerate,
+    Unknown,
+}
+
 /// One slack evaluated in balls.
 struct Value {
     proven: Option<Sign>,
@@ -137,20 +146,23 @@ impl Certifier {
         self.estimated.get()
     }
 
-    /// The proven sign of step `k`'s slack (both kinds: positive where the
-    /// triangle closes) at a λ inside an interval (taken as exact); `Zero`
-    /// also where the step's base joints may coincide.
-    pub fn closes_sign(&self, bits: &[bool], lambda: f64, k: usize) -> Sign {
+    /// Whether step `k` closes at a λ inside an interval (taken as exact):
+    /// both slacks proven positive, one proven negative, or — with equal
+    /// sides, where the folded slack is the base distance d itself — d zero
+    /// to double-double resolution: a degenerate step whose base joints
+    /// coincide (its vertex turns freely, as in a folded rhombus).
+    pub fn closes(&self, bits: &[bool], lambda: f64, k: usize) -> Closes {
         let at = At { lambda, events: &[] };
-        // Both kinds even with equal sides: the folded slack is then d itself,
-        // and d not proven positive is a degenerate step (base joints together).
         let signs = self.slack_signs(bits, at, &[(k, Kind::Stretched), (k, Kind::Folded)]);
+        let equal_sides = self.kinds(k).len() == 1;
         if signs.contains(&Sign::Negative) {
-            Sign::Negative
+            Closes::No
+        } else if equal_sides && signs[1] == Sign::Zero {
+            Closes::Degenerate
         } else if signs.iter().all(|&s| s == Sign::Positive) {
-            Sign::Positive
+            Closes::Yes
         } else {
-            Sign::Zero
+            Closes::Unknown
         }
     }
 
