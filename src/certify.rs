@@ -64,6 +64,7 @@ pub enum Closes {
 struct Value {
     proven: Option<Sign>,
     midpoint: Option<f64>,
+    radius: Option<f64>,
 }
 
 /// Where a question is asked: a λ, and the steps flat there (empty for a
@@ -117,12 +118,17 @@ impl Certifier {
     pub fn slack_signs(&self, bits: &[bool], at: At, questions: &[(usize, Kind)]) -> Vec<Sign> {
         let upto = questions.iter().map(|&(k, _)| k).max().unwrap_or(0);
         let lambda = Dd::new(at.lambda);
-        let fast = self.evaluate(&self.f64_balls, &self.f64_plain, bits, at, lambda, upto, questions);
+        let fast = self.evaluate(&self.f64_balls, &self.f64_plain, bits, at, lambda, upto, questions, true);
         if fast.iter().all(|v| v.proven.is_some()) {
             return fast.into_iter().map(|v| v.proven.expect("all proven")).collect();
         }
         let refined = self.refine_dd(bits, at, lambda);
-        let fine = self.evaluate(&self.dd_balls, &self.dd_plain, bits, at, refined, upto, questions);
+        // Double-double balls are about 2^-53 of the f64 ones wide: skip them
+        // where even that would not exclude zero.
+        let shrink = Dd::UNIT_ROUNDOFF / f64::UNIT_ROUNDOFF * 16.0;
+        let hopeless = |v: &Value| v.radius.zip(v.midpoint).is_some_and(|(r, m)| r * shrink > m.abs());
+        let balls = !fast.iter().filter(|v| v.proven.is_none()).all(hopeless);
+        let fine = self.evaluate(&self.dd_balls, &self.dd_plain, bits, at, refined, upto, questions, balls);
         fast.iter().zip(&fine).map(|(f, d)| f.proven.or(d.proven).unwrap_or_else(|| self.estimate(f, d))).collect()
     }
 
@@ -179,22 +185,25 @@ impl Certifier {
         lambda: Dd,
         upto: usize,
         questions: &[(usize, Kind)],
+        balls: bool,
     ) -> Vec<Value> {
-        let bracket = self.bracket(con, bits, at, lambda);
+        let bracket = if balls { self.bracket(con, bits, at, lambda) } else { None };
         let flat: Vec<usize> = at.events.iter().map(|e| e.step).filter(|&s| s < upto).collect();
-        let balls = bracket.map(|l| con.base_distances_flat(l, bits, upto, &flat)).unwrap_or_default();
+        let enclosures = bracket.map(|l| con.base_distances_flat(l, bits, upto, &flat)).unwrap_or_default();
         let values = plain.base_distances_flat(T::from_dd(lambda), bits, upto, &flat);
         questions
             .iter()
             .map(|&(k, kind)| {
-                let proven = match balls.get(k) {
-                    Some(&d) => Sign::of(kind.slack_value(con.steps[k].r1, con.steps[k].r2, d).sign()),
-                    // Steps after the first that cannot close have no distance.
-                    None => bracket.map(|_| Sign::Undefined),
-                };
+                let ball = enclosures.get(k).map(|&d| kind.slack_value(con.steps[k].r1, con.steps[k].r2, d));
                 let s = &plain.steps[k];
+                let proven = match (ball, values.get(k)) {
+                    (Some(b), _) => Sign::of(b.sign()),
+                    // Steps after the first that cannot close have no distance.
+                    (None, None) => bracket.map(|_| Sign::Undefined),
+                    (None, Some(_)) => None,
+                };
                 let midpoint = values.get(k).map(|&d| kind.slack_value(s.r1, s.r2, d).to_f64()).filter(|m| m.is_finite());
-                Value { proven, midpoint }
+                Value { proven, midpoint, radius: ball.map(|b| b.r) }
             })
             .collect()
     }
@@ -212,6 +221,13 @@ impl Certifier {
         };
         let centre = T::from_dd(lambda);
         let scale = con.scale;
+        // A slack whose ball at the centre is already wider than the widest
+        // bracket tried cannot prove a sign change there: skip the search.
+        let pos = con.realize_prefix(Ball::exact(centre), bits, event.step).ok()?;
+        let width = event.kind.slack_value(s.r1, s.r2, con.base_distance(&pos, event.step)).r;
+        if !(width < 1e-8 * scale) {
+            return None;
+        }
         let mut delta = 8.0 * T::UNIT_ROUNDOFF * lambda.to_f64().abs().max(scale);
         while delta < 1e-6 * scale {
             let (lo, hi) = (centre - T::from_f64(delta), centre + T::from_f64(delta));
@@ -240,6 +256,9 @@ impl Certifier {
                 break;
             }
             x = x - step;
+            if step.to_f64().abs() <= 4.0 * Dd::UNIT_ROUNDOFF * x.to_f64().abs() {
+                break;
+            }
         }
         x
     }
