@@ -27,20 +27,35 @@ use crate::realize::Construction;
 /// sides `a`, `b`, `t`, each as a product of differences. `None` when the
 /// triangle cannot close (beyond a few ulps, which are clamped to flat).
 fn one_minus_plus_cos<T: Real>(a: T, b: T, t: T) -> Option<(T, T)> {
-    let two_ab = T::from_f64(2.0) * a * b;
-    if two_ab.partial_cmp(&T::zero()) != Some(std::cmp::Ordering::Greater) {
+    let positive = |x: T| x.partial_cmp(&T::zero()) == Some(std::cmp::Ordering::Greater);
+    if !(positive(a) && positive(b)) {
         return None;
     }
     let m = a - b;
     let s = a + b;
-    let omc = (t - m) * (t + m) / two_ab; // = 1 − cos
-    let opc = (s - t) * (s + t) / two_ab; // = 1 + cos
+    // Each a ratio of lengths times a ratio of lengths: no product of two lengths.
+    let two = T::from_f64(2.0);
+    let omc = (t - m) / a * ((t + m) / (two * b)); // = 1 − cos
+    let opc = (s - t) / a * ((s + t) / (two * b)); // = 1 + cos
     let tol = T::from_f64(64.0 * T::UNIT_ROUNDOFF);
     if omc < -tol || opc < -tol {
         return None;
     }
     let clamp = |x: T| if x < T::zero() { T::zero() } else { x };
     Some((clamp(omc), clamp(opc)))
+}
+
+/// The side opposite an angle θ between sides `a` and `b`, from 1 − cos θ:
+/// √((a − b)² + 2ab(1 − cos θ)), scaled by the longer side so that no
+/// product of two lengths is formed.
+fn side_from_angle<T: Real>(a: T, b: T, one_minus_cos: T) -> T {
+    let m = if a > b { a } else { b };
+    if m.partial_cmp(&T::zero()) != Some(std::cmp::Ordering::Greater) {
+        return T::zero();
+    }
+    let (x, y) = (a / m, b / m);
+    let q = (x - y) * (x - y) + T::from_f64(2.0) * x * y * one_minus_cos;
+    if q < T::zero() { T::zero() } else { m * q.sqrt() }
 }
 
 /// Candidate λ values for "step k flat with d_k = t".
@@ -124,8 +139,7 @@ impl<T: Real> Inverter<'_, T> {
                 let sin_t1 = T::from_f64(sg) * sin1;
                 // 1 − cos θ2 with θ2 = θ1 + Δ.
                 let one_minus = T::from_f64(1.0) - (cos1 * cd - sin_t1 * sd);
-                let d2 = (a2 - b2) * (a2 - b2) + T::from_f64(2.0) * a2 * b2 * one_minus;
-                if d2 < T::zero() { T::zero() } else { d2.sqrt() }
+                side_from_angle(a2, b2, one_minus)
             })
             .collect()
     }
@@ -152,8 +166,7 @@ impl<T: Real> Inverter<'_, T> {
             .map(|&sg| {
                 // cos(α1 ∓ α2) = c1 c2 ± s1 s2
                 let cos_sum = c1 * c2 + T::from_f64(sg) * s1 * s2;
-                let d2 = (r_piv - r_opp) * (r_piv - r_opp) + T::from_f64(2.0) * r_piv * r_opp * (one - cos_sum);
-                if d2 < T::zero() { T::zero() } else { d2.sqrt() }
+                side_from_angle(r_piv, r_opp, one - cos_sum)
             })
             .collect()
     }

@@ -39,8 +39,16 @@ pub trait Real:
     fn clamp_nonneg(self) -> Self {
         if self < Self::zero() { Self::zero() } else { self }
     }
+    /// √(x² + y²) without squaring a length: scaled by the larger of |x|, |y|
+    /// so that scenes near 1e±300 neither overflow nor underflow.
     fn hypot(x: Self, y: Self) -> Self {
-        (x * x + y * y).sqrt()
+        let (ax, ay) = (x.abs(), y.abs());
+        let m = if ax > ay { ax } else { ay };
+        if m.partial_cmp(&Self::zero()) != Some(std::cmp::Ordering::Greater) {
+            return m;
+        }
+        let (u, v) = (x / m, y / m);
+        m * (u * u + v * v).sqrt()
     }
 }
 

@@ -26,6 +26,11 @@ fn cross<T: Real>(p: P2<T>, q: P2<T>) -> T {
 fn norm<T: Real>(p: P2<T>) -> T {
     T::hypot(p[0], p[1])
 }
+/// `p / |p|` (dimensionless, so dot and cross products of these never overflow).
+fn unit<T: Real>(p: P2<T>) -> P2<T> {
+    let n = norm(p);
+    [p[0] / n, p[1] / n]
+}
 
 /// A realization type: one orientation bit per step, `true` = `+`.
 #[derive(Clone, PartialEq, Eq, Hash, PartialOrd, Ord, Debug)]
@@ -156,11 +161,12 @@ fn apex_flat<T: Real>(
         return Err(Some(s.to_f64()));
     }
     let zero = T::zero();
-    // Two dimensionless factors times two slacks: no product of four lengths to overflow.
+    // h = d·√(dimensionless product): no product of lengths, so no overflow
+    // or underflow at any scale f64 can represent.
     let two_d = T::from_f64(2.0) * d;
-    let h2 = ((r1 + r2 + d) / two_d * stretch.clamp_nonneg()) * ((d + (r1 - r2).abs()) / two_d * fold.clamp_nonneg());
-    let h = if flat { zero } else { h2.sqrt() };
-    let along = (d + (r1 - r2) * (r1 + r2) / d) / T::from_f64(2.0);
+    let h2 = ((r1 + r2 + d) / two_d * (stretch.clamp_nonneg() / d)) * ((d + (r1 - r2).abs()) / two_d * (fold.clamp_nonneg() / d));
+    let h = if flat { zero } else { d * h2.sqrt() };
+    let along = (d + (r1 - r2) * ((r1 + r2) / d)) / T::from_f64(2.0);
     let (ex, ey) = (e[0] / d, e[1] / d);
     let h = if plus { h } else { -h };
     Ok([pu[0] + along * ex - h * ey, pu[1] + along * ey + h * ex])
@@ -169,9 +175,8 @@ fn apex_flat<T: Real>(
 /// Maps `x` rigidly (rotation + translation, never a reflection) so that the
 /// local points `p0`, `p1` go to `q0`, `q1` (assumed at the same distance).
 fn rigid_map<T: Real>(p0: P2<T>, p1: P2<T>, q0: P2<T>, q1: P2<T>) -> impl Fn(P2<T>) -> P2<T> {
-    let (a, b) = (sub(p1, p0), sub(q1, q0));
-    let n = norm(a) * norm(b);
-    let (c, s) = (dot(a, b) / n, cross(a, b) / n);
+    let (a, b) = (unit(sub(p1, p0)), unit(sub(q1, q0)));
+    let (c, s) = (dot(a, b), cross(a, b));
     move |x: P2<T>| {
         let r = sub(x, p0);
         [q0[0] + c * r[0] - s * r[1], q0[1] + s * r[0] + c * r[1]]
@@ -280,16 +285,18 @@ impl<T: Real> Construction<T> {
         let members = |c: usize, pivot: usize, apex_joint: usize| -> (T, Vec<Member<T>>) {
             let (p, q) = (shape_pos(&shapes[c], pivot), shape_pos(&shapes[c], apex_joint));
             let e = sub(q, p);
-            let e2 = dot(e, e);
+            let length = norm(e);
+            let eh = unit(e);
             let list = shapes[c]
                 .iter()
                 .filter(|(j, _)| *j != pivot && *j != apex_joint)
                 .map(|&(joint, pos)| {
                     let r = sub(pos, p);
-                    Member { joint, alpha: dot(r, e) / e2, beta: cross(e, r) / e2 }
+                    let r = [r[0] / length, r[1] / length];
+                    Member { joint, alpha: dot(r, eh), beta: cross(eh, r) }
                 })
                 .collect();
-            (norm(e), list)
+            (length, list)
         };
         let steps = dec
             .steps
@@ -317,8 +324,8 @@ impl<T: Real> Construction<T> {
     pub fn cluster_angle(&self, cluster: usize, x: usize, p: usize, q: usize) -> (T, T) {
         let (a, b) =
             (sub(self.local(cluster, p), self.local(cluster, x)), sub(self.local(cluster, q), self.local(cluster, x)));
-        let n = norm(a) * norm(b);
-        (dot(a, b) / n, cross(a, b) / n)
+        let (a, b) = (unit(a), unit(b));
+        (dot(a, b), cross(a, b))
     }
 
     /// Whether step `k` stands directly on the base (its base distance is λ).
@@ -440,12 +447,11 @@ pub fn drawn_realization(linkage: &Linkage, dec: &Decomposition) -> Drawn {
         .enumerate()
         .map(|(k, s)| {
             let base = sub(p[s.w], p[s.u]);
-            let c = cross(base, sub(p[s.vertex], p[s.u]));
-            let height = c / norm(base).max(f64::MIN_POSITIVE);
+            let height = if norm(base) > 0.0 { cross(unit(base), sub(p[s.vertex], p[s.u])) } else { 0.0 };
             if height.abs() <= tolerance::DRAWN_FLAT * linkage.scale {
                 flat_steps.push(k);
             }
-            c >= 0.0
+            height >= 0.0
         })
         .collect();
     Drawn { lambda, ty: RealizationType(bits), flat_steps }
