@@ -36,15 +36,23 @@ pub struct SketchFit {
     pub max_joint_move: f64,
 }
 
-/// How the f64 endpoints compare with the double-double reference run.
+/// How the f64 endpoints compare with the double-double reference run,
+/// which starts from the input as written (decimal coordinates and stated
+/// lengths read into double-double), so input rounding is measured too.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Accuracy {
     /// Largest |λ_f64 − λ_reference| over all endpoints, in scene units.
     pub max_endpoint_error: f64,
     /// The same relative to the scene scale.
     pub max_relative_error: f64,
+    /// Largest |λ_f64 − λ_reference| / |λ_reference|: digits lost where an
+    /// endpoint is a small difference of large lengths.
+    pub max_error_of_value: f64,
     /// Whether both runs found the same intervals (same types, same count).
     pub same_structure: bool,
+    /// The reported endpoints are the reference's, rounded to f64 (so within
+    /// half an ulp of their own value), not the f64 run's.
+    pub refined: bool,
 }
 
 /// Scenes with more types than this skip the reference run in `analyse`.
@@ -124,18 +132,31 @@ impl Solved {
     }
 }
 
-/// The f64 and reference runs compared endpoint by endpoint (same order).
-fn compare_runs<R: Real>(reference: &[OrientedInterval<R>], space: &[OrientedInterval<f64>], scale: f64) -> Accuracy {
-    let same_structure = reference.len() == space.len() && reference.iter().zip(space).all(|(r, f)| r.ty == f.ty);
-    let mut worst: f64 = 0.0;
+/// The f64 and reference runs compared endpoint by endpoint (same order);
+/// with the same structure, the f64 endpoints are replaced by the
+/// reference's, rounded.
+fn compare_runs<R: Real>(reference: &[OrientedInterval<R>], space: &mut [OrientedInterval<f64>], scale: f64) -> Accuracy {
+    let same_structure = reference.len() == space.len() && reference.iter().zip(space.iter()).all(|(r, f)| r.ty == f.ty);
+    let (mut worst, mut of_value): (f64, f64) = (0.0, 0.0);
     if same_structure {
-        for (r, f) in reference.iter().zip(space) {
-            for (x, y) in [(r.lower.lambda, f.lower.lambda), (r.upper.lambda, f.upper.lambda)] {
-                worst = worst.max((x - R::from_f64(y)).to_f64().abs());
+        for (r, f) in reference.iter().zip(space.iter_mut()) {
+            for (x, y) in [(r.lower.lambda, &mut f.lower.lambda), (r.upper.lambda, &mut f.upper.lambda)] {
+                let error = (x - R::from_f64(*y)).to_f64().abs();
+                worst = worst.max(error);
+                if x.to_f64() != 0.0 {
+                    of_value = of_value.max(error / x.to_f64().abs());
+                }
+                *y = x.to_f64();
             }
         }
     }
-    Accuracy { max_endpoint_error: worst, max_relative_error: worst / scale, same_structure }
+    Accuracy {
+        max_endpoint_error: worst,
+        max_relative_error: worst / scale,
+        max_error_of_value: of_value,
+        same_structure,
+        refined: same_structure,
+    }
 }
 
 /// The scene's construction in double-double and in double-double jets: the
@@ -153,11 +174,11 @@ pub fn lazy_reference_accuracy(
     dec: &Decomposition,
     cert: &Certifier,
     drawn: &Drawn,
-    space: &CayleySpace<f64>,
+    space: &mut CayleySpace<f64>,
 ) -> Option<Accuracy> {
     let (con, jet) = reference_constructions(linkage, dec)?;
     let reference = component_through(&con, cert, &jet, &drawn.ty, Dd::new(drawn.lambda), LazyOptions::default()).ok()?;
-    Some(compare_runs(&reference.intervals, &space.intervals, linkage.scale))
+    Some(compare_runs(&reference.intervals, &mut space.intervals, linkage.scale))
 }
 
 /// Compute the Cayley space in double-double and compare it with `space`.
@@ -166,11 +187,11 @@ pub fn reference_accuracy(
     dec: &Decomposition,
     cx: &Complexity,
     cert: &Certifier,
-    space: &CayleySpace<f64>,
+    space: &mut CayleySpace<f64>,
 ) -> Option<Accuracy> {
     let (con, jet) = reference_constructions(linkage, dec)?;
     let reference = cayley_space(&con, cert, jet, dec, cx, space.method);
-    Some(compare_runs(&reference.intervals, &space.intervals, linkage.scale))
+    Some(compare_runs(&reference.intervals, &mut space.intervals, linkage.scale))
 }
 
 /// The λ of `ty` nearest to `lambda` (itself if realizable), from the type's intervals.
@@ -249,7 +270,7 @@ pub fn analyse_with(scene: Scene, base_override: Option<[usize; 2]>, scope: Scop
         Scope::Full => false,
         Scope::Lazy => true,
     };
-    let space = if lazy {
+    let mut space = if lazy {
         timings.time("lazy_component", || {
             let jet = construction.convert::<Jet<f64>>();
             component_through(&construction, &certifier, &jet, &drawn.ty, drawn.lambda, LazyOptions::default()).unwrap_or_else(
@@ -266,16 +287,16 @@ pub fn analyse_with(scene: Scene, base_override: Option<[usize; 2]>, scope: Scop
             cayley_space(&construction, &certifier, construction.convert::<Jet<f64>>(), &dec, &complexity, Method::Exact)
         })
     };
-    let union = union(&space.intervals, linkage.scale);
     let accuracy = if lazy {
         (dec.steps.len() <= LAZY_REFERENCE_MAX_STEPS && !space.intervals.is_empty())
-            .then(|| timings.time("reference", || lazy_reference_accuracy(&linkage, &dec, &certifier, &drawn, &space)))
+            .then(|| timings.time("reference", || lazy_reference_accuracy(&linkage, &dec, &certifier, &drawn, &mut space)))
             .flatten()
     } else if space.intervals.len() <= REFERENCE_MAX_TYPES {
-        timings.time("reference", || reference_accuracy(&linkage, &dec, &complexity, &certifier, &space))
+        timings.time("reference", || reference_accuracy(&linkage, &dec, &complexity, &certifier, &mut space))
     } else {
         None
     };
+    let union = union(&space.intervals, linkage.scale);
     if accuracy.as_ref().is_some_and(|a| !a.same_structure) {
         warnings.push(
             "the f64 and double-double runs found different intervals: some events are closer than f64 separates"

@@ -94,9 +94,9 @@ pub fn scaling_row(family: &str, scene: crate::scene::Scene, repeat: usize) -> O
     let drawn = crate::realize::drawn_realization(&linkage, &dec);
     let walk = || component_through(&con, &cert, &jet, &drawn.ty, drawn.lambda, LazyOptions::default());
     let (lazy_us, space) = median_us(repeat, walk);
-    let space = space.ok()?;
+    let mut space = space.ok()?;
     let max_endpoint_error = (dec.steps.len() <= crate::analysis::LAZY_REFERENCE_MAX_STEPS)
-        .then(|| crate::analysis::lazy_reference_accuracy(&linkage, &dec, &cert, &drawn, &space))
+        .then(|| crate::analysis::lazy_reference_accuracy(&linkage, &dec, &cert, &drawn, &mut space))
         .flatten()
         .map(|a| if a.same_structure { a.max_relative_error } else { f64::INFINITY });
     let n = dec.steps.len();
@@ -208,11 +208,10 @@ pub fn bench_scene(a: &Analysis, s: &Solved, repeat: usize) -> (Vec<MethodRow>, 
         // Too many types to enumerate: only the lazy walk, against its double-double twin.
         let (t, walked) =
             median_us(repeat, || component_through(con, &s.certifier, &jet, &s.drawn.ty, s.drawn.lambda, LazyOptions::default()));
+        let n = walked.as_ref().map_or(0, |w| w.intervals.len());
         let accuracy = walked
-            .as_ref()
             .ok()
-            .and_then(|w| crate::analysis::lazy_reference_accuracy(&a.linkage, &s.dec, &s.certifier, &s.drawn, w));
-        let n = walked.map_or(0, |w| w.intervals.len());
+            .and_then(|mut w| crate::analysis::lazy_reference_accuracy(&a.linkage, &s.dec, &s.certifier, &s.drawn, &mut w));
         let row = MethodRow {
             scene: name,
             method: "lazy walk (drawn component only)".into(),

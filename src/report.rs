@@ -64,7 +64,11 @@ pub struct AccuracyReport {
     pub max_endpoint_error_estimate: f64,
     /// The same divided by the scene scale.
     pub max_relative_error_estimate: f64,
+    /// The largest error of an f64 endpoint relative to its own value.
+    pub max_error_of_value: f64,
     pub same_structure: bool,
+    /// The reported endpoints are the double-double ones, rounded to f64.
+    pub refined_in_double_double: bool,
 }
 
 #[derive(Debug, Clone, Serialize)]
@@ -238,7 +242,9 @@ impl Report {
                     reference: "double-double (106-bit)",
                     max_endpoint_error_estimate: acc.max_endpoint_error,
                     max_relative_error_estimate: acc.max_relative_error,
+                    max_error_of_value: acc.max_error_of_value,
                     same_structure: acc.same_structure,
+                    refined_in_double_double: acc.refined,
                 });
             }
         }
@@ -382,11 +388,18 @@ impl Report {
         if let Some(a) = &self.accuracy {
             let _ = writeln!(
                 o,
-                "{:<24}endpoints within {} of the double-double reference ({} relative){}",
+                "{:<24}f64 endpoints within {} of the double-double run from the input as written ({} of the scale, {} of their own value){}",
                 "Accuracy",
                 fmt_sci(a.max_endpoint_error_estimate),
                 fmt_sci(a.max_relative_error_estimate),
-                if a.same_structure { "" } else { "; STRUCTURE DIFFERS" }
+                fmt_sci(a.max_error_of_value),
+                if !a.same_structure {
+                    "; STRUCTURE DIFFERS"
+                } else if a.refined_in_double_double {
+                    "; endpoints shown are the double-double ones"
+                } else {
+                    ""
+                }
             );
         }
         self.write_components(o);

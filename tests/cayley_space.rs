@@ -19,7 +19,7 @@ fn solve(scene: Scene) -> (Linkage, Solved) {
 
 /// f64 endpoints within 1e-12 × scale of the double-double reference, same structure.
 fn assert_matches_reference(l: &Linkage, s: &Solved) {
-    let acc = reference_accuracy(l, &s.dec, &s.complexity, &s.certifier, &s.space).expect("reference runs");
+    let acc = reference_accuracy(l, &s.dec, &s.complexity, &s.certifier, &mut s.space.clone()).expect("reference runs");
     assert!(acc.same_structure, "f64 and double-double disagree on the intervals");
     assert!(acc.max_relative_error <= 1e-12, "endpoint error {:e} relative", acc.max_relative_error);
 }
