@@ -472,8 +472,12 @@ pub fn to_display(linkage: &Linkage, base: [usize; 2], pos: &[P2<f64>]) -> Vec<P
         (pos[anchor], shift(rb, ra, pos[anchor]), linkage.drawn[anchor], shift(db, da, linkage.drawn[anchor]))
     };
     let (a, b) = (sub(r1, r0), sub(d1, d0));
-    let n = norm(a) * norm(b);
-    let (c, s) = if n > 0.0 { (dot(a, b) / n, cross(a, b) / n) } else { (1.0, 0.0) };
+    let (c, s) = if norm(a) > 0.0 && norm(b) > 0.0 {
+        let (a, b) = (unit(a), unit(b));
+        (dot(a, b), cross(a, b))
+    } else {
+        (1.0, 0.0)
+    };
     pos.iter()
         .map(|&x| {
             let r = sub(x, r0);

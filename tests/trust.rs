@@ -1,0 +1,286 @@
+//! Issue 10: no wrong answers at any size. Regression tests for the numbered
+//! cases (near-coincident events, tiny intervals, high-order tangencies,
+//! false warnings, extreme scales, honest accuracy) and the invariance
+//! properties: the realization space does not depend on the base, the scale,
+//! the pose or the analysis scope.
+
+use caymos::analysis::{Analysis, Scope, Solved, analyse_with};
+use caymos::bundled;
+use caymos::cayley_space::{Event, Kind, OrientedInterval};
+use caymos::generate::{chain, four_bar, random_linkage};
+use caymos::lazy::{LazyOptions, component_through};
+use caymos::real::Jet;
+use caymos::scene::{Scene, parse_scene};
+use proptest::prelude::*;
+
+fn solve_with(scene: Scene, base: Option<[usize; 2]>, scope: Scope) -> (Analysis, Solved) {
+    let a = analyse_with(scene, base, scope).expect("a valid scene");
+    let s = a.outcome.clone().unwrap_or_else(|o| panic!("{}", o.describe(&a.linkage)));
+    (a, s)
+}
+
+fn solve(scene: Scene) -> (Analysis, Solved) {
+    solve_with(scene, None, Scope::Full)
+}
+
+/// The lazy walk from the drawn realization (as the full analysis places
+/// it) finds the full analysis's component through it.
+fn assert_scopes_agree(scene: &Scene) {
+    let (_, full) = solve(scene.clone());
+    let Some(drawn) = full.drawn_component else { return };
+    let jet = full.construction.convert::<Jet<f64>>();
+    let walked = component_through(&full.construction, &full.certifier, &jet, &full.drawn.ty, full.drawn.lambda, LazyOptions::default())
+        .expect("the drawn realization is realizable");
+    let key = |iv: &OrientedInterval<f64>| (iv.ty.to_string(), iv.lower.lambda, iv.upper.lambda);
+    let mut f: Vec<_> = full.components.list[drawn].intervals.iter().map(|&i| key(&full.space.intervals[i])).collect();
+    let mut l: Vec<_> = walked.intervals.iter().map(key).collect();
+    f.sort_by(|a, b| a.0.cmp(&b.0).then(a.1.total_cmp(&b.1)));
+    l.sort_by(|a, b| a.0.cmp(&b.0).then(a.1.total_cmp(&b.1)));
+    assert_eq!(f.len(), l.len(), "{}: full {f:?}\nlazy {l:?}", scene.name);
+    for (x, y) in f.iter().zip(&l) {
+        assert_eq!(x.0, y.0);
+        let close = |a: f64, b: f64| (a - b).abs() <= 1e-12 * full.construction.scale;
+        assert!(close(x.1, y.1) && close(x.2, y.2), "{}: full {x:?} lazy {y:?}", scene.name);
+    }
+}
+
+fn events(iv: &OrientedInterval<f64>) -> (Vec<Event>, Vec<Event>) {
+    (iv.lower.events.clone(), iv.upper.events.clone())
+}
+
+// ---------------------------------------------------------------------------
+// Numbered cases
+
+/// Case 3: AB=1, BC=2, CD=1, DA=4 − 1e-12 whose drawing is a realization:
+/// the Cayley space is [3 − 1e-12, 3], each end a different step's event.
+#[test]
+fn an_interval_1e_minus_12_wide_is_found_with_its_two_events() {
+    assert_scopes_agree(&four_bar(1.0, 2.0, 1.0, 4.0 - 1e-12));
+    for scope in [Scope::Full] {
+        let (_, s) = solve_with(four_bar(1.0, 2.0, 1.0, 4.0 - 1e-12), None, scope);
+        assert_eq!(s.union.len(), 1, "{scope:?}");
+        let [lo, hi] = s.union[0];
+        assert!((lo - (3.0 - 1e-12)).abs() <= 4e-16 && hi == 3.0, "{scope:?}: [{lo}, {hi}]");
+        for iv in &s.space.intervals {
+            let fold_d = Event { step: 1, kind: Kind::Folded };
+            let stretch_b = Event { step: 0, kind: Kind::Stretched };
+            assert_eq!(events(iv), (vec![fold_d], vec![stretch_b]), "{scope:?}");
+        }
+        // Both ends from different triangles: one component through all four types.
+        assert_eq!(s.components.list.len(), 1);
+        assert_eq!(s.components.list[0].intervals.len(), 4);
+    }
+}
+
+/// Case 4: AB=1, BC=3, CD=2.5, DA=4.5(1 + δ): two fold events δ·4.5 apart
+/// are distinct, so there is one component of four intervals, for every δ
+/// from 1e-9 down to 1e-15 and in both analyses.
+#[test]
+fn fold_events_1e_minus_9_to_1e_minus_15_apart_stay_distinct() {
+    for e in 9..=15 {
+        let delta = 10f64.powi(-e);
+        let da = 4.5 * (1.0 + delta);
+        let scene = four_bar(1.0, 3.0, 2.5, da);
+        assert_scopes_agree(&scene);
+        for scope in [Scope::Full] {
+            let (_, s) = solve_with(scene.clone(), None, scope);
+            assert_eq!(s.components.list.len(), 1, "δ = 1e-{e}, {scope:?}");
+            assert_eq!(s.components.list[0].intervals.len(), 4, "δ = 1e-{e}, {scope:?}");
+            assert!(s.components.branch_points.is_empty(), "δ = 1e-{e}, {scope:?}: no branch point");
+            for iv in &s.space.intervals {
+                assert_eq!(iv.lower.lambda, da - 2.5, "δ = 1e-{e}: the lower end is D's fold");
+                assert_eq!(iv.lower.events, vec![Event { step: 1, kind: Kind::Folded }], "δ = 1e-{e}, {scope:?}");
+            }
+        }
+    }
+}
+
+/// The exact coincidence (δ = 0) is a branch point, said as such.
+#[test]
+fn exactly_coincident_fold_events_are_one_branch_point() {
+    let (_, s) = solve(four_bar(1.0, 3.0, 2.5, 4.5));
+    let both = vec![Event { step: 0, kind: Kind::Folded }, Event { step: 1, kind: Kind::Folded }];
+    assert!(s.space.intervals.iter().all(|iv| iv.lower.events == both));
+    assert!(!s.components.branch_points.is_empty());
+}
+
+/// Case 2: Peaucellier on base A–B. Types +--+, +---, -++-, -+++ exist on all
+/// of [3, 5] (the slack 6 − |BD| touches zero at λ = √13 to fourth order: a
+/// touch, not an isolated point), and the drawn realization lies in a component.
+#[test]
+fn peaucellier_on_base_a_b_keeps_its_intervals_through_a_fourth_order_touch() {
+    let scene = bundled::load("peaucellier").unwrap();
+    let a = scene.joint_index("A").unwrap();
+    let b = scene.joint_index("B").unwrap();
+    for scale in [1.0, 1e3, 1e-3] {
+        let mut scaled = scene.clone();
+        for j in &mut scaled.joints {
+            j.pos = j.pos.map(|x| x * scale);
+        }
+        for bar in &mut scaled.bars {
+            bar.length = bar.length.map(|l| l * scale);
+        }
+        let (_, s) = solve_with(scaled, Some([a, b]), Scope::Full);
+        for ty in ["+--+", "+---", "-++-", "-+++"] {
+            let spans: Vec<[f64; 2]> = s
+                .space
+                .intervals
+                .iter()
+                .filter(|iv| iv.ty.to_string() == ty)
+                .map(|iv| [iv.lower.lambda / scale, iv.upper.lambda / scale])
+                .collect();
+            assert_eq!(spans.len(), 1, "×{scale}: {ty} has one interval, found {spans:?}");
+            assert!((spans[0][0] - 3.0).abs() < 1e-12 && (spans[0][1] - 5.0).abs() < 1e-12, "×{scale}: {ty} {spans:?}");
+        }
+        assert!(s.drawn_component.is_some(), "×{scale}: the drawn realization lies in a component");
+        assert!(s.accuracy.as_ref().is_some_and(|acc| acc.same_structure && acc.max_relative_error < 1e-12));
+    }
+}
+
+/// Case 9: a 16-step chain has no false "unresolved" or tangency warnings.
+#[test]
+fn a_sixteen_step_chain_has_no_false_warnings() {
+    let (a, s) = solve_with(chain(16), None, Scope::Lazy);
+    assert!(s.space.intervals.len() >= 2);
+    for w in &a.warnings {
+        assert!(!w.contains("unresolved") && !w.contains("tangency"), "false warning: {w}");
+    }
+}
+
+/// Case 10: a four-bar scaled by 1e±160 and 1e±200 has the same two
+/// components, with endpoints scaled (to rounding).
+#[test]
+fn extreme_scales_give_the_same_answer_scaled() {
+    let (_, unit) = solve(four_bar(1.0, 4.0, 3.0, 3.5));
+    for e in [-200, -160, -80, 80, 160, 200] {
+        let f = 10f64.powi(e);
+        let (_, s) = solve(four_bar(f, 4.0 * f, 3.0 * f, 3.5 * f));
+        assert_eq!(s.components.list.len(), unit.components.list.len(), "1e{e}");
+        assert_eq!(s.space.intervals.len(), unit.space.intervals.len(), "1e{e}");
+        for (x, y) in s.space.intervals.iter().zip(&unit.space.intervals) {
+            assert_eq!(x.ty, y.ty);
+            for (p, q) in [(x.lower.lambda, y.lower.lambda), (x.upper.lambda, y.upper.lambda)] {
+                assert!((p / f - q).abs() <= 1e-14 * q, "1e{e}: {p} vs {q}");
+            }
+        }
+        assert!(s.drawn_positions.as_ref().is_some_and(|p| p.iter().flatten().all(|c| c.is_finite())), "1e{e}");
+    }
+}
+
+/// Case 11: an endpoint that is the difference of two ~955-long bars, in a
+/// scene whose base is 1.2e-3: the reported endpoint is within 1e-15 of its
+/// own value against a 60-digit computation from the written coordinates
+/// (Python's decimal: |AB| − |CB| with A = (0, 0), C = (0.0012, 0),
+/// B = (300.123456789, 906.6)), and the report says how far the f64 run was.
+#[test]
+fn accuracy_is_measured_from_the_input_as_written() {
+    let text = r#"
+name = "scale spread"
+base = ["A", "C"]
+ground = ["A", "C"]
+bars = [ ["A","B"], ["B","C"], ["C","D"], ["D","A"] ]
+[joints]
+A = [0.0, 0.0]
+C = [0.0012, 0.0]
+B = [300.123456789, 906.6]
+D = [0.0005, 0.0006]
+"#;
+    let truth = 0.000_377_123_455_083_281_737_701_099_623_659_102;
+    let (a, s) = solve(parse_scene(text, "spread.toml", "spread").unwrap());
+    let lower = s.union[0][0];
+    assert!((lower - truth).abs() <= 1e-15 * truth, "reported {lower:e}, truth {truth:e}");
+    let acc = s.accuracy.expect("reference ran");
+    assert!(acc.refined && acc.same_structure);
+    // f64 loses digits to the cancellation; the report must say so, not claim 1e-17.
+    assert!(acc.max_error_of_value > 1e-12, "f64 error of value {:e}", acc.max_error_of_value);
+    assert!(acc.max_error_of_value < 1e-8);
+    assert!(a.linkage.scale > 900.0);
+}
+
+// ---------------------------------------------------------------------------
+// Invariance properties
+
+/// Every valid base of a scene gives the same number of components, and the
+/// drawing lies in one of them (the realization space does not depend on the base).
+fn assert_base_invariant(scene: &Scene) {
+    let (_, s) = solve(scene.clone());
+    for &base in &s.dec.other_bases {
+        let (_, t) = solve_with(scene.clone(), Some(base), Scope::Full);
+        assert_eq!(t.components.list.len(), s.components.list.len(), "{}: base {base:?} vs {:?}", scene.name, s.dec.base);
+        assert!(t.drawn_component.is_some(), "{}: base {base:?}: the drawing lies in a component", scene.name);
+    }
+}
+
+#[test]
+fn bundled_generic_scenes_have_the_same_components_on_every_valid_base() {
+    for name in ["fourbar-crank-rocker", "fourbar-non-grashof", "jansen", "limacon", "watt", "stephenson", "fig1a"] {
+        assert_base_invariant(&bundled::load(name).unwrap());
+    }
+}
+
+/// Rotating, translating, renaming and mirroring a scene: the same Cayley
+/// space; a mirror flips every orientation bit.
+fn transformed(scene: &Scene, angle: f64, shift: [f64; 2], mirror: bool) -> Scene {
+    let mut t = scene.clone();
+    let (c, s) = (angle.cos(), angle.sin());
+    for j in &mut t.joints {
+        let [x, y] = j.pos;
+        let y = if mirror { -y } else { y };
+        j.pos = [c * x - s * y + shift[0], s * x + c * y + shift[1]];
+        j.name = format!("{}'", j.name);
+    }
+    t
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 24, ..ProptestConfig::default() })]
+
+    #[test]
+    fn random_scenes_have_the_same_components_on_every_valid_base(seed in any::<u64>(), steps in 1usize..5) {
+        assert_base_invariant(&random_linkage(seed, steps, 0.3));
+    }
+
+    #[test]
+    fn scaling_and_moving_change_nothing_but_what_they_must(
+        seed in any::<u64>(), steps in 1usize..5, e in prop::sample::select(vec![-150i32, -9, -3, 3, 9, 150]),
+        angle in 0.0f64..6.28, mirror in any::<bool>()
+    ) {
+        let scene = random_linkage(seed, steps, 0.3);
+        let (_, s) = solve(scene.clone());
+        let f = 10f64.powi(e);
+        let mut scaled = transformed(&scene, angle, [0.3 * f, -1.7 * f], mirror);
+        for j in &mut scaled.joints {
+            j.pos = j.pos.map(|x| x * f);
+        }
+        let (_, t) = solve(scaled);
+        prop_assert_eq!(t.components.list.len(), s.components.list.len());
+        prop_assert_eq!(t.space.intervals.len(), s.space.intervals.len());
+        let flip = |ty: &str| -> String {
+            if mirror { ty.chars().map(|c| if c == '+' { '-' } else { '+' }).collect() } else { ty.to_string() }
+        };
+        let mut want: Vec<(String, f64, f64)> = s.space.intervals.iter().map(|iv| (flip(&iv.ty.to_string()), iv.lower.lambda, iv.upper.lambda)).collect();
+        want.sort_by(|a, b| a.0.cmp(&b.0).then(a.1.total_cmp(&b.1)));
+        for (iv, w) in t.space.intervals.iter().zip(&want) {
+            prop_assert_eq!(iv.ty.to_string(), w.0.clone());
+            prop_assert!((iv.lower.lambda / f - w.1).abs() <= 1e-9 * s.construction.scale, "{} vs {}", iv.lower.lambda / f, w.1);
+            prop_assert!((iv.upper.lambda / f - w.2).abs() <= 1e-9 * s.construction.scale, "{} vs {}", iv.upper.lambda / f, w.2);
+        }
+    }
+
+    /// `--all` and `--lazy` agree on four-bar families: near-coincident
+    /// events, tiny intervals, parallelograms, kites and rhombi.
+    #[test]
+    fn full_and_lazy_agree_on_hard_four_bar_families(
+        e in 9i32..=15, family in 0usize..4, a in 0.5f64..2.0, b in 2.5f64..4.0
+    ) {
+        let delta = 10f64.powi(-e);
+        let (ab, bc, cd, da) = match family {
+            0 => (a, b, b - a + 0.5, 1.0 + 0.5 + b - a + delta),   // near-coincident folds
+            1 => (a, b, a, b + delta),                              // near-parallelogram
+            2 => (a, a * (1.0 + delta), b, b),                      // near-kite
+            _ => (1.0, 2.0, 1.0, 4.0 - delta * 4.0),                // tiny interval
+        };
+        let scene = four_bar(ab, bc, cd, da);
+        assert_scopes_agree(&scene);
+    }
+}
