@@ -140,7 +140,16 @@ fn compare_runs<R: Real>(reference: &[OrientedInterval<R>], space: &mut [Oriente
     let (mut worst, mut of_value): (f64, f64) = (0.0, 0.0);
     if same_structure {
         for (r, f) in reference.iter().zip(space.iter_mut()) {
-            for (x, y) in [(r.lower.lambda, &mut f.lower.lambda), (r.upper.lambda, &mut f.upper.lambda)] {
+            // An isolated point (a tangency at double-double resolution) stays a point.
+            let point = f.lower.lambda == f.upper.lambda;
+            let half = R::from_f64(0.5);
+            let (lo, hi) = if point {
+                let mid = (r.lower.lambda + r.upper.lambda) * half;
+                (mid, mid)
+            } else {
+                (r.lower.lambda, r.upper.lambda)
+            };
+            for (x, y) in [(lo, &mut f.lower.lambda), (hi, &mut f.upper.lambda)] {
                 let error = (x - R::from_f64(*y)).to_f64().abs();
                 worst = worst.max(error);
                 if x.to_f64() != 0.0 {

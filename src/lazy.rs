@@ -286,7 +286,8 @@ impl<'a, T: Real> Walker<'a, T> {
             };
             let same_end = |iv: &OrientedInterval<T>| {
                 let end = if leaving_upper { &iv.upper } else { &iv.lower };
-                iv.ty == next && (end.lambda - e.lambda).abs() <= self.coincide
+                // Our own root computed twice: same type, side and flat steps.
+                iv.ty == next && end.events == e.events && (end.lambda - e.lambda).abs() <= self.coincide
             };
             if let Some(j) = intervals.iter().position(same_end) {
                 // Back at an interval already walked: share the endpoint.
@@ -362,6 +363,11 @@ impl<'a, T: Real> Walker<'a, T> {
         // roots next to it, and their jets say nothing there).
         let mut approaching: Option<(T, Vec<Event>)> = None;
         while let Some(x) = pending.pop() {
+            if (x - near.lambda) * dir <= T::zero() && approaching.as_ref().is_none_or(|(at, _)| *at != x) {
+                // Not beyond the current sample (rounding of a grid point
+                // next to an end): a gap of no width holds no end.
+                continue;
+            }
             let right = match made.last() {
                 Some(p) if p.lambda == x => made.pop().expect("just seen"),
                 _ => self.probe(bits, x),

@@ -39,6 +39,10 @@ pub trait Real:
     fn clamp_nonneg(self) -> Self {
         if self < Self::zero() { Self::zero() } else { self }
     }
+    /// max(self, 0) by value, whatever the type's own `clamp_nonneg` does.
+    fn clamp_nonneg_plain(self) -> Self {
+        if self < Self::zero() { Self::zero() } else { self }
+    }
     /// √(x² + y²) without squaring a length: scaled by the larger of |x|, |y|
     /// so that scenes near 1e±300 neither overflow nor underflow.
     fn hypot(x: Self, y: Self) -> Self {
@@ -420,28 +424,23 @@ impl<T: Real> Real for Ball<T> {
     fn to_f64(self) -> f64 {
         self.m.to_f64()
     }
+    /// The midpoint stays the plain square root (so a ball's midpoint is
+    /// always what `T` alone computes); the radius covers √ of the enclosure,
+    /// clamped at zero where it reaches below.
     fn sqrt(self) -> Self {
-        let m = Self::mag(self.m) * self.m.to_f64().signum();
+        let m = self.m.to_f64();
+        let root = self.m.clamp_nonneg_plain().sqrt();
+        let centre = Self::mag(root);
         if m - self.r <= 0.0 {
-            // The enclosure reaches zero: √ of [0, m + r].
-            let top = (m + self.r).max(0.0).sqrt() * RADIUS_ROUNDING;
-            return Ball { m: T::from_f64(top / 2.0), r: top / 2.0 * RADIUS_ROUNDING };
+            let top = (m + self.r).max(0.0).sqrt();
+            return Ball { m: root, r: (top.max(centre) * RADIUS_ROUNDING).max(centre) };
         }
-        let root = self.m.sqrt();
         let low = (m - self.r).sqrt();
-        Ball::rounded(root, self.r / (Self::mag(root) + low))
+        Ball::rounded(root, self.r / (centre + low))
     }
     fn clamp_nonneg(self) -> Self {
-        let m = self.m.to_f64();
-        if m - self.r >= 0.0 {
-            self
-        } else if m + self.r <= 0.0 {
-            Ball::exact(T::zero())
-        } else {
-            // [max(lo, 0), hi]
-            let top = m + self.r;
-            Ball { m: T::from_f64(top / 2.0), r: top / 2.0 * RADIUS_ROUNDING }
-        }
+        // max(·, 0) is 1-Lipschitz: the radius carries over.
+        Ball { m: self.m.clamp_nonneg_plain(), r: self.r }
     }
 }
 
