@@ -351,6 +351,12 @@ pub fn analyse_with(scene: Scene, base_override: Option<[usize; 2]>, scope: Scop
         None
     };
     warnings.extend(describe_notes(&linkage, &dec, &space.notes));
+    if certifier.estimated() > 0 {
+        warnings.push(format!(
+            "{} decisions on deep steps (is a slack zero at an end or inside a gap) rest on a double-double error estimate, not a proof (proven bounds grow too wide along this deep construction)",
+            certifier.estimated()
+        ));
+    }
     let components = timings.time("components", || components(&space));
     for b in &components.branch_points {
         let what = if b.options.is_empty() { "a dead end" } else { "a branch point" };

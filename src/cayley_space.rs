@@ -299,7 +299,6 @@ impl<T: Real> Sweep<'_, T> {
     /// The roots of d_k = target strictly inside `piece`, and at its ends
     /// where step k's slack is proven zero there (`ends`: [lo, hi] signs).
     fn roots(&mut self, k: usize, bits: &[bool], piece: &Piece<T>, ends: [[Sign; 2]; 2]) -> Vec<Root<T>> {
-        let scale = T::from_f64(self.con.scale);
         let (lo, hi) = (piece.lo.lambda, piece.hi.lambda);
         let mut roots = Vec::new();
         for (ki, &kind) in self.cert.kinds(k).iter().enumerate() {
@@ -312,14 +311,13 @@ impl<T: Real> Sweep<'_, T> {
             let flat_ends = at_ends.into_iter().filter(|e| e.2 == Sign::Zero).map(|(x, at, _)| (x, at));
             for (lambda, at) in candidates.into_iter().map(|x| (x, At::Inside)).chain(flat_ends) {
                 let Some(d) = self.distance(k, bits, lambda) else { continue };
+                // Every closed-form candidate is kept as a boundary, even one of
+                // another type's: the proven signs on the gaps beside it decide
+                // (a boundary with the same sign on both sides and a nonzero
+                // slack is dropped in `refine`). Testing candidates by value
+                // would reject true roots next to an end, where d_k′ is huge.
                 let g = d - Jet::constant(t);
-                // Closed-form candidates must prove they are roots of this prefix;
-                // numeric ones are bracketed sign changes, roots by construction.
-                let accepted = at != At::Inside
-                    || self.exact[k].is_none()
-                    || g.v.abs() <= T::from_f64(tolerance::ROOT_VALUE) * scale
-                    || self.brackets_root(k, bits, lambda, g, t);
-                if !accepted || !(g.d.to_f64().is_finite() || at != At::Inside) {
+                if !(g.d.to_f64().is_finite() || at != At::Inside) {
                     continue;
                 }
                 let (left, right) = self.side_signs(self.slack(k, kind, d));
@@ -329,22 +327,6 @@ impl<T: Real> Sweep<'_, T> {
         roots.sort_by(|a, b| cmp(&a.lambda, &b.lambda));
         roots.dedup_by(|a, b| a.lambda == b.lambda && a.kind == b.kind);
         roots
-    }
-
-    /// A candidate whose Newton correction s = g/g′ is within
-    /// [`tolerance::ROOT_STEP`] is a root only if g also changes sign across
-    /// it (at λ − 2s). A small correction alone is no proof: next to an end
-    /// where an earlier step is flat, g′ grows without bound, and a candidate
-    /// that is another type's root would pass.
-    fn brackets_root(&self, k: usize, bits: &[bool], lambda: T, g: Jet<T>, t: T) -> bool {
-        let step = g.v / g.d;
-        // NaN (a zero slope) fails this test too.
-        let small = step.abs().partial_cmp(&T::from_f64(tolerance::ROOT_STEP * self.con.scale));
-        if !matches!(small, Some(Ordering::Less | Ordering::Equal)) {
-            return false;
-        }
-        let beyond = lambda - step - step;
-        self.distance(k, bits, beyond).is_some_and(|d| sign(d.v - t) * sign(g.v) <= 0)
     }
 
     /// Split `piece` by the slack of step k into the parts where it closes.

@@ -31,8 +31,10 @@ pub fn tangent_slope(unit_roundoff: f64) -> f64 {
 pub const ROOT_STEP: f64 = 1e-9;
 pub const ROOT_VALUE: f64 = 1e-12;
 
-/// A root this close (× scale) to an endpoint of an earlier step is the same
-/// λ: two steps are flat at once (a non-generic event).
+/// The lazy walk recognises an interval end it computed before (same type,
+/// side and flat steps) within this (× scale): its own root found twice, not
+/// a question about the mechanism. Whether two different events coincide is
+/// never decided by a tolerance: see [`crate::certify`].
 pub const EVENTS_COINCIDE: f64 = 1e-11;
 
 /// Intervals of the non-oriented Cayley space closer than this (× scale) are joined.
