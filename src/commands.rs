@@ -147,16 +147,13 @@ pub fn path(a: &Analysis, s: &Solved, from: &str, to: &str, step: f64) -> Result
         });
     }
     let comp = &s.components.list[ca];
-    if !comp.closed {
-        return Err(
-            "the component is not a closed cycle here (a non-generic branch point); paths are not defined".into()
-        );
-    }
     let both =
         arcs(&s.space, comp, (ia, ra.lambda), (ib, rb.lambda)).ok_or("both realizations must lie in the component")?;
+    // An open component (a chain between dead ends) has one path only.
     let mut paths: Vec<PathOut> = both
         .into_iter()
         .zip(["along", "against"])
+        .filter(|(segs, _)| !segs.is_empty())
         .map(|(segs, direction)| {
             let m = measure(&s.construction, &a.linkage, segs.clone(), step, &s.complexity.ccv);
             let lo = segs.iter().map(|x| x.from.min(x.to)).fold(f64::INFINITY, f64::min);
@@ -172,8 +169,10 @@ pub fn path(a: &Analysis, s: &Solved, from: &str, to: &str, step: f64) -> Result
             }
         })
         .collect();
-    let shorter = if paths[0].cayley_length <= paths[1].cayley_length { 0 } else { 1 };
-    paths[shorter].shorter = true;
+    let shorter = (0..paths.len()).min_by(|&i, &j| paths[i].cayley_length.total_cmp(&paths[j].cayley_length));
+    if let Some(k) = shorter.filter(|_| paths.len() > 1) {
+        paths[k].shorter = true;
+    }
     Ok(PathReport {
         from: from_out,
         to: to_out,
@@ -239,11 +238,19 @@ pub fn trace_segments(
         }
         let both = arcs(&s.space, &s.components.list[c], (ia, ra.lambda), (ib, rb.lambda))
             .ok_or("both realizations must lie in the component")?;
+        let len = |segs: &[Segment]| {
+            if segs.is_empty() { f64::INFINITY } else { segs.iter().map(|x| (x.to - x.from).abs()).sum::<f64>() }
+        };
         let pick = match arc {
+            Some(k @ (1 | 2)) if both[k - 1].is_empty() => {
+                return Err(format!(
+                    "--arc {k}: the component is an open chain (it ends at dead ends); the only path is arc {}",
+                    3 - k
+                ));
+            }
             Some(k @ (1 | 2)) => k - 1,
             Some(_) => return Err("--arc is 1 or 2".into()),
             None => {
-                let len = |segs: &[Segment]| segs.iter().map(|x| (x.to - x.from).abs()).sum::<f64>();
                 if len(&both[0]) <= len(&both[1]) { 0 } else { 1 }
             }
         };

@@ -311,8 +311,7 @@ impl<'a, T: Real> Walker<'a, T> {
 
     /// The type the motion continues into at endpoint `e` of `ty`: the flat
     /// step's bit flipped. With several steps flat at once, the first single
-    /// flip (else set of flips) whose type is realizable just beside `e` in
-    /// direction `dir`.
+    /// flip whose type is realizable just beside `e` in direction `dir`.
     fn flip(&mut self, ty: &RealizationType, e: &Endpoint<T>, dir: T) -> Option<RealizationType> {
         let steps: Vec<usize> = e.events.iter().map(|ev| ev.step).collect();
         if steps.len() == 1 {
@@ -320,9 +319,8 @@ impl<'a, T: Real> Walker<'a, T> {
         }
         let beside = e.lambda + dir * T::from_f64(tolerance::FEASIBLE.sqrt() * self.con.scale);
         let realizable = |t: &RealizationType| self.con.realize(beside, t).is_ok();
-        let singles = (0..steps.len()).map(|b| 1usize << b);
-        let all = 1..(1usize << steps.len().min(8));
-        singles.chain(all).map(|mask| ty.flipped_by_mask(&steps, mask)).find(|t| realizable(t))
+        // Single flips only, as `motion::components` links them.
+        (0..steps.len()).map(|b| ty.flipped(steps[b])).find(|t| realizable(t))
     }
 
     /// The first end of type `bits`'s interval beyond `from` in direction

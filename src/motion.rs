@@ -82,11 +82,12 @@ pub fn components(space: &CayleySpace<f64>) -> Components {
             let ty = ivs[i].ty.flipped_by_mask(&steps, mask);
             by_end.get(&(e.id, side, &ty)).cloned().unwrap_or_default()
         };
-        let singles: Vec<usize> = (0..steps.len()).flat_map(|b| lookup(1 << b)).filter(|&j| j != i).collect();
-        if !singles.is_empty() || steps.len() > 8 {
-            return singles;
-        }
-        (1..(1usize << steps.len())).flat_map(lookup).filter(|&j| j != i).collect()
+        // Only single flips: where none continues, the end is a dead end
+        // (e.g. a folded rhombus, where a later step degenerates and the
+        // motion has an extra degree of freedom). Passing through by flipping
+        // several bits would join components on some bases and not on
+        // others; the realization space must not depend on the base.
+        (0..steps.len()).flat_map(|b| lookup(1 << b)).filter(|&j| j != i).collect()
     };
     let mut of_interval = vec![usize::MAX; ivs.len()];
     let mut list = Vec::new();
@@ -256,7 +257,9 @@ pub fn component_segments(space: &CayleySpace<f64>, c: &Component) -> Vec<Segmen
 
 /// The two arcs of a closed component between realizations in intervals
 /// `ia` (at `la`) and `ib` (at `lb`): first following the component's
-/// direction, then against it. `None` when either interval is not in the component.
+/// direction, then against it. An open component (a chain between dead
+/// ends) has one path only: the arc that would pass its ends is empty.
+/// `None` when either interval is not in the component.
 pub fn arcs(
     space: &CayleySpace<f64>,
     c: &Component,
@@ -296,6 +299,11 @@ pub fn arcs(
             k = (k + m - 1) % m;
         }
         back.push(finish(rev(&segs[pb])));
+    }
+    if !c.closed {
+        // The chain runs in list order: forward is a path only if it does not wrap.
+        let forward = pa < pb || (pa == pb && ahead(&segs[pa], la, lb));
+        if forward { back.clear() } else { fwd.clear() }
     }
     Some([fwd, back])
 }

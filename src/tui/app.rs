@@ -397,6 +397,12 @@ impl Model {
                 let Some(arcs) = &self.path_arcs else {
                     return Err("mark A and B in one component first (a, then b)".into());
                 };
+                if arcs[arc].is_empty() {
+                    return Err(format!(
+                        "this component is an open chain (it ends at dead ends): A and B are joined only by path {}",
+                        2 - arc
+                    ));
+                }
                 self.segments = arcs[arc].clone();
                 self.motion = Motion::Path { arc };
                 self.component = self.solved.components.of_interval[self.segments[0].interval];
