@@ -203,6 +203,38 @@ pub fn reference_accuracy(
     Some(compare_runs(&reference.intervals, &mut space.intervals, linkage.scale))
 }
 
+/// A realizable λ of `ty` near `lambda`, for a lazy analysis that has no
+/// intervals yet: 4096 samples over the base's range, then bisection from
+/// the nearest realizable one toward `lambda` (to the end of that interval).
+/// A sampled search: an interval narrower than the spacing can be missed,
+/// and then `None`.
+fn nearest_realizable(con: &Construction<f64>, ty: &crate::realize::RealizationType, lambda: f64) -> Option<f64> {
+    let (mut lo, mut hi) = (0.0f64, f64::INFINITY);
+    for k in (0..con.steps.len()).filter(|&k| con.on_base(k)) {
+        let s = &con.steps[k];
+        lo = lo.max((s.r1 - s.r2).abs());
+        hi = hi.min(s.r1 + s.r2);
+    }
+    if !(hi >= lo) {
+        return None;
+    }
+    let ok = |x: f64| con.realize(x, ty).is_ok();
+    const SAMPLES: usize = 4096;
+    let found = (0..=SAMPLES)
+        .map(|i| lo + (hi - lo) * i as f64 / SAMPLES as f64)
+        .filter(|&x| ok(x))
+        .min_by(|a, b| (a - lambda).abs().total_cmp(&(b - lambda).abs()))?;
+    let (mut inside, mut outside) = (found, lambda);
+    for _ in 0..80 {
+        let mid = 0.5 * (inside + outside);
+        if mid == inside || mid == outside {
+            break;
+        }
+        if ok(mid) { inside = mid } else { outside = mid }
+    }
+    Some(inside)
+}
+
 /// The λ of `ty` nearest to `lambda` (itself if realizable), from the type's intervals.
 pub fn nearest_attainable(space: &CayleySpace<f64>, ty: &crate::realize::RealizationType, lambda: f64) -> Option<f64> {
     space
@@ -274,15 +306,26 @@ pub fn analyse_with(scene: Scene, base_override: Option<[usize; 2]>, scope: Scop
             linkage.names[s.w]
         ));
     }
+    // A sketch whose drawn λ its type cannot reach has no start for the walk:
+    // small ones get the full analysis (which relocates the drawing from its
+    // intervals), large ones a sampled search for a start.
+    let unreachable_sketch = scene.is_sketch() && construction.realize(drawn.lambda, &drawn.ty).is_err();
     let lazy = match scope {
         Scope::Auto => dec.steps.len() > LAZY_ABOVE_STEPS,
         Scope::Full => false,
-        Scope::Lazy => true,
+        Scope::Lazy => !(unreachable_sketch && dec.steps.len() <= LAZY_ABOVE_STEPS),
     };
     let mut space = if lazy {
         timings.time("lazy_component", || {
             let jet = construction.convert::<Jet<f64>>();
-            component_through(&construction, &certifier, &jet, &drawn.ty, drawn.lambda, LazyOptions::default()).unwrap_or_else(
+            // A sketch whose drawn λ its type cannot reach starts from the
+            // nearest λ it can (the full analysis does the same from its intervals).
+            let start = if unreachable_sketch {
+                nearest_realizable(&construction, &drawn.ty, drawn.lambda).unwrap_or(drawn.lambda)
+            } else {
+                drawn.lambda
+            };
+            component_through(&construction, &certifier, &jet, &drawn.ty, start, LazyOptions::default()).unwrap_or_else(
                 |_| CayleySpace {
                     intervals: Vec::new(),
                     notes: Vec::new(),
