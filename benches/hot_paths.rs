@@ -27,7 +27,9 @@ fn hot_paths(c: &mut Criterion) {
     });
     c.bench_function("Jansen components from the Cayley space", |b| b.iter(|| components(black_box(&s.space))));
     c.bench_function("Jansen lazy walk of the drawn component", |b| {
-        b.iter(|| component_through(con, &s.certifier, &jet, &s.drawn.ty, black_box(s.drawn.lambda), LazyOptions::default()))
+        b.iter(|| {
+            component_through(con, &s.certifier, &jet, &s.drawn.ty, black_box(s.drawn.lambda), LazyOptions::default())
+        })
     });
     let segments = component_segments(&s.space, &s.components.list[k]);
     let step = a.linkage.scale / 100.0;
@@ -41,7 +43,14 @@ fn hot_paths(c: &mut Criterion) {
     let cjet = cs.construction.convert::<Jet<f64>>();
     c.bench_function("100-step chain lazy walk of the drawn component", |b| {
         b.iter(|| {
-            component_through(&cs.construction, &cs.certifier, &cjet, &cs.drawn.ty, black_box(cs.drawn.lambda), LazyOptions::default())
+            component_through(
+                &cs.construction,
+                &cs.certifier,
+                &cjet,
+                &cs.drawn.ty,
+                black_box(cs.drawn.lambda),
+                LazyOptions::default(),
+            )
         })
     });
 }

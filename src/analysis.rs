@@ -118,7 +118,9 @@ impl Solved {
             return None;
         }
         let jet = self.construction.convert::<Jet<f64>>();
-        let more = component_through(&self.construction, &self.certifier, &jet, &r.ty, r.lambda, LazyOptions::default()).ok()?;
+        let more =
+            component_through(&self.construction, &self.certifier, &jet, &r.ty, r.lambda, LazyOptions::default())
+                .ok()?;
         let offset = self.space.intervals.iter().map(|i| i.lower.id.max(i.upper.id)).max().unwrap_or(0);
         for mut iv in more.intervals {
             iv.lower.id += offset;
@@ -135,8 +137,13 @@ impl Solved {
 /// The f64 and reference runs compared endpoint by endpoint (same order);
 /// with the same structure, the f64 endpoints are replaced by the
 /// reference's, rounded.
-fn compare_runs<R: Real>(reference: &[OrientedInterval<R>], space: &mut [OrientedInterval<f64>], scale: f64) -> Accuracy {
-    let same_structure = reference.len() == space.len() && reference.iter().zip(space.iter()).all(|(r, f)| r.ty == f.ty);
+fn compare_runs<R: Real>(
+    reference: &[OrientedInterval<R>],
+    space: &mut [OrientedInterval<f64>],
+    scale: f64,
+) -> Accuracy {
+    let same_structure =
+        reference.len() == space.len() && reference.iter().zip(space.iter()).all(|(r, f)| r.ty == f.ty);
     let (mut worst, mut of_value): (f64, f64) = (0.0, 0.0);
     if same_structure {
         for (r, f) in reference.iter().zip(space.iter_mut()) {
@@ -186,7 +193,8 @@ pub fn lazy_reference_accuracy(
     space: &mut CayleySpace<f64>,
 ) -> Option<Accuracy> {
     let (con, jet) = reference_constructions(linkage, dec)?;
-    let reference = component_through(&con, cert, &jet, &drawn.ty, Dd::new(drawn.lambda), LazyOptions::default()).ok()?;
+    let reference =
+        component_through(&con, cert, &jet, &drawn.ty, Dd::new(drawn.lambda), LazyOptions::default()).ok()?;
     Some(compare_runs(&reference.intervals, &mut space.intervals, linkage.scale))
 }
 
@@ -215,7 +223,7 @@ fn nearest_realizable(con: &Construction<f64>, ty: &crate::realize::RealizationT
         lo = lo.max((s.r1 - s.r2).abs());
         hi = hi.min(s.r1 + s.r2);
     }
-    if !(hi >= lo) {
+    if hi.partial_cmp(&lo) == Some(std::cmp::Ordering::Less) || hi.is_nan() {
         return None;
     }
     let ok = |x: f64| con.realize(x, ty).is_ok();
@@ -336,12 +344,21 @@ pub fn analyse_with(scene: Scene, base_override: Option<[usize; 2]>, scope: Scop
         })
     } else {
         timings.time("cayley_space", || {
-            cayley_space(&construction, &certifier, construction.convert::<Jet<f64>>(), &dec, &complexity, Method::Exact)
+            cayley_space(
+                &construction,
+                &certifier,
+                construction.convert::<Jet<f64>>(),
+                &dec,
+                &complexity,
+                Method::Exact,
+            )
         })
     };
     let accuracy = if lazy {
         (dec.steps.len() <= LAZY_REFERENCE_MAX_STEPS && !space.intervals.is_empty())
-            .then(|| timings.time("reference", || lazy_reference_accuracy(&linkage, &dec, &certifier, &drawn, &mut space)))
+            .then(|| {
+                timings.time("reference", || lazy_reference_accuracy(&linkage, &dec, &certifier, &drawn, &mut space))
+            })
             .flatten()
     } else if space.intervals.len() <= REFERENCE_MAX_TYPES {
         timings.time("reference", || reference_accuracy(&linkage, &dec, &complexity, &certifier, &mut space))

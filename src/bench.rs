@@ -206,12 +206,13 @@ pub fn bench_scene(a: &Analysis, s: &Solved, repeat: usize) -> (Vec<MethodRow>, 
     let jet = con.convert::<Jet<f64>>();
     if s.lazy {
         // Too many types to enumerate: only the lazy walk, against its double-double twin.
-        let (t, walked) =
-            median_us(repeat, || component_through(con, &s.certifier, &jet, &s.drawn.ty, s.drawn.lambda, LazyOptions::default()));
+        let (t, walked) = median_us(repeat, || {
+            component_through(con, &s.certifier, &jet, &s.drawn.ty, s.drawn.lambda, LazyOptions::default())
+        });
         let n = walked.as_ref().map_or(0, |w| w.intervals.len());
-        let accuracy = walked
-            .ok()
-            .and_then(|mut w| crate::analysis::lazy_reference_accuracy(&a.linkage, &s.dec, &s.certifier, &s.drawn, &mut w));
+        let accuracy = walked.ok().and_then(|mut w| {
+            crate::analysis::lazy_reference_accuracy(&a.linkage, &s.dec, &s.certifier, &s.drawn, &mut w)
+        });
         let row = MethodRow {
             scene: name,
             method: "lazy walk (drawn component only)".into(),
@@ -250,7 +251,8 @@ pub fn bench_scene(a: &Analysis, s: &Solved, repeat: usize) -> (Vec<MethodRow>, 
         }
     };
     for (label, method) in methods {
-        let (t, space) = median_us(repeat, || cayley_space(con, &s.certifier, jet.clone(), &s.dec, &s.complexity, method));
+        let (t, space) =
+            median_us(repeat, || cayley_space(con, &s.certifier, jet.clone(), &s.dec, &s.complexity, method));
         rows.push(row(label, t, &spans(&space)));
     }
     let (t, classic) = median_us(repeat, || classic_space(con, s));
@@ -269,8 +271,9 @@ pub fn bench_scene(a: &Analysis, s: &Solved, repeat: usize) -> (Vec<MethodRow>, 
         let overlaps = |(t, a, b): &Span, (u, c, d): &Span| t == u && a <= d && c <= b;
         let reference_component: Vec<Span> =
             reference.iter().filter(|r| component.iter().any(|c| overlaps(r, c))).cloned().collect();
-        let (t, walked) =
-            median_us(repeat, || component_through(con, &s.certifier, &jet, &s.drawn.ty, s.drawn.lambda, LazyOptions::default()));
+        let (t, walked) = median_us(repeat, || {
+            component_through(con, &s.certifier, &jet, &s.drawn.ty, s.drawn.lambda, LazyOptions::default())
+        });
         if let Ok(walked) = walked {
             let got = spans(&walked);
             let (max_endpoint_error, missed, spurious) = compare(&got, &reference_component, scale);

@@ -380,7 +380,9 @@ impl<T: Real> Sweep<'_, T> {
         while g < inside.len() {
             let r = inside[g];
             let same = feasible[g] == feasible[g + 1];
-            if same && self.cert.slack_sign(bits, Place { lambda: r.lambda.to_f64(), events: &[] }, k, r.kind) != Sign::Zero {
+            if same
+                && self.cert.slack_sign(bits, Place { lambda: r.lambda.to_f64(), events: &[] }, k, r.kind) != Sign::Zero
+            {
                 inside.remove(g);
                 feasible.remove(g + 1);
             } else {

@@ -150,7 +150,8 @@ impl Certifier {
             return if f.midpoint.is_none() && d.midpoint.is_none() { Sign::Undefined } else { Sign::Zero };
         };
         self.estimated.set(self.estimated.get() + 1);
-        let error = (x - y).abs() * (Dd::UNIT_ROUNDOFF / f64::UNIT_ROUNDOFF) * 1024.0 + 64.0 * Dd::UNIT_ROUNDOFF * self.f64_balls.scale;
+        let error = (x - y).abs() * (Dd::UNIT_ROUNDOFF / f64::UNIT_ROUNDOFF) * 1024.0
+            + 64.0 * Dd::UNIT_ROUNDOFF * self.f64_balls.scale;
         if y.abs() > error { if y > 0.0 { Sign::Positive } else { Sign::Negative } } else { Sign::Zero }
     }
 
@@ -209,7 +210,8 @@ impl Certifier {
                     (None, None) => bracket.map(|_| Sign::Undefined),
                     (None, Some(_)) => None,
                 };
-                let midpoint = values.get(k).map(|&d| kind.slack_value(s.r1, s.r2, d).to_f64()).filter(|m| m.is_finite());
+                let midpoint =
+                    values.get(k).map(|&d| kind.slack_value(s.r1, s.r2, d).to_f64()).filter(|m| m.is_finite());
                 Value { proven, midpoint, radius: ball.map(|b| b.r) }
             })
             .collect()
@@ -232,7 +234,7 @@ impl Certifier {
         // bracket tried cannot prove a sign change there: skip the search.
         let pos = con.realize_prefix(Ball::exact(centre), bits, event.step).ok()?;
         let width = event.kind.slack_value(s.r1, s.r2, con.base_distance(&pos, event.step)).r;
-        if !(width < 1e-8 * scale) {
+        if width.is_nan() || width >= 1e-8 * scale {
             return None;
         }
         let mut delta = 8.0 * T::UNIT_ROUNDOFF * lambda.to_f64().abs().max(scale);

@@ -251,7 +251,11 @@ pub fn trace_segments(
             Some(k @ (1 | 2)) => k - 1,
             Some(_) => return Err("--arc is 1 or 2".into()),
             None => {
-                if len(&both[0]) <= len(&both[1]) { 0 } else { 1 }
+                if len(&both[0]) <= len(&both[1]) {
+                    0
+                } else {
+                    1
+                }
             }
         };
         return Ok(both[pick].clone());

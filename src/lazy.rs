@@ -211,7 +211,8 @@ impl<'a, T: Real> Walker<'a, T> {
     /// `None` for any other start.
     fn isolated_start(&mut self, ty: &RealizationType, lambda: T) -> Option<Vec<OrientedInterval<T>>> {
         let n = self.con.steps.len();
-        let questions: Vec<(usize, Kind)> = (0..n).flat_map(|k| self.kinds(k).iter().map(move |&kind| (k, kind))).collect();
+        let questions: Vec<(usize, Kind)> =
+            (0..n).flat_map(|k| self.kinds(k).iter().map(move |&kind| (k, kind))).collect();
         let l = lambda.to_f64();
         let at = |x: f64| At { lambda: x, events: &[] };
         let here = self.cert.slack_signs(&ty.0, at(l), &questions);

@@ -277,7 +277,6 @@ impl<T: Real> Real for Jet<T> {
     }
 }
 
-
 impl Dd {
     /// 10^n for 0 ≤ n ≤ 300, by squaring (exact while 10^n fits 106 bits, n ≤ 45).
     fn pow10(n: u32) -> Dd {

@@ -164,7 +164,8 @@ fn apex_flat<T: Real>(
     // h = d·√(dimensionless product): no product of lengths, so no overflow
     // or underflow at any scale f64 can represent.
     let two_d = T::from_f64(2.0) * d;
-    let h2 = ((r1 + r2 + d) / two_d * (stretch.clamp_nonneg() / d)) * ((d + (r1 - r2).abs()) / two_d * (fold.clamp_nonneg() / d));
+    let h2 = ((r1 + r2 + d) / two_d * (stretch.clamp_nonneg() / d))
+        * ((d + (r1 - r2).abs()) / two_d * (fold.clamp_nonneg() / d));
     let h = if flat { zero } else { d * h2.sqrt() };
     let along = (d + (r1 - r2) * ((r1 + r2) / d)) / T::from_f64(2.0);
     let (ex, ey) = (e[0] / d, e[1] / d);
@@ -230,10 +231,9 @@ fn cluster_shapes<T: Real>(linkage: &Linkage, clusters: &ClusterSet) -> Result<V
                 let l = T::from_dd(bar.exact);
                 vec![(bar.joints[0], [T::zero(), T::zero()]), (bar.joints[1], [l, T::zero()])]
             }
-            Origin::Body(i) => linkage.bodies[*i]
-                .iter()
-                .map(|&j| (j, linkage.drawn_exact[j].map(T::from_dd)))
-                .collect(),
+            Origin::Body(i) => {
+                linkage.bodies[*i].iter().map(|&j| (j, linkage.drawn_exact[j].map(T::from_dd))).collect()
+            }
             Origin::Base => Vec::new(),
             Origin::Triangle { parts, shared: [p, q, r] } => {
                 // parts[0] ∋ r, p; parts[1] ∋ p, q; parts[2] ∋ q, r.
