@@ -21,6 +21,7 @@ pub mod complexity;
 pub mod decompose;
 pub mod distance;
 pub mod generate;
+pub mod interval;
 pub mod invert;
 pub mod lazy;
 pub mod linkage;
