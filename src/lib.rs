@@ -20,6 +20,7 @@ pub mod commands;
 pub mod complexity;
 pub mod decompose;
 pub mod distance;
+pub mod enclosure;
 pub mod generate;
 pub mod interval;
 pub mod invert;
