@@ -99,7 +99,7 @@ impl ClosestOut {
             "Closest pair between components {} and {}: Cayley distance {}\n  {}@{}  and  {}@{}\n  {}\n",
             self.a.component,
             self.b.component,
-            self.distance,
+            full(self.distance),
             self.a.ty,
             self.a.lambda,
             self.b.ty,
@@ -109,9 +109,15 @@ impl ClosestOut {
     }
 }
 
+/// A distance to full precision: the shortest form that reads back exactly,
+/// in scientific notation when tiny or huge.
+fn full(x: f64) -> String {
+    if x == 0.0 || (1e-4..1e15).contains(&x.abs()) { format!("{x}") } else { format!("{x:e}") }
+}
+
 /// The certificate in words: "certified to …" only when it is.
 pub fn certificate_sentence(c: &Certificate) -> String {
-    let (lo, hi, req) = (c.lower, c.upper, c.requested_gap);
+    let (lo, hi, req) = (full(c.lower), full(c.upper), c.requested_gap);
     let range = format!("the minimum distance lies in [{lo}, {hi}] (relative gap {:.1e})", c.gap);
     let mut o = match c.outcome {
         Outcome::Mirror => {
@@ -126,13 +132,14 @@ pub fn certificate_sentence(c: &Certificate) -> String {
             c.boxes, c.end_pairs
         ),
         Outcome::GapReached => format!("gap {req:e} reached over the intervals as computed: {range}"),
+        Outcome::Resolution if c.lower == 0.0 && c.upper > 0.0 => format!(
+            "not certified to {req:e}: the Cayley curves meet or nearly so (the pair above is 0 apart up to \
+             rounding); proven: the minimum distance lies in [0, {hi}]"
+        ),
         Outcome::Resolution => {
-            let why = if c.lower == 0.0 && hi > 0.0 {
-                format!("the Cayley curves meet or nearly so: the pair above is at most {hi} apart")
-            } else {
-                "f64 interval arithmetic does not resolve the distance that finely here".to_string()
-            };
-            format!("not certified to {req:e}: {why}; proven: {range}")
+            format!(
+                "not certified to {req:e}: f64 interval arithmetic does not resolve the distance that finely here; proven: {range}"
+            )
         }
         Outcome::Budget => {
             format!("not certified to {req:e}: the budget of {} boxes ran out; proven: {range}", c.max_boxes)
@@ -279,7 +286,7 @@ impl PathReport {
         let _ = writeln!(o, "From {}  to {}", r(&self.from), r(&self.to));
         if let Some(c) = &self.closest_pair {
             let _ = writeln!(o, "No path: the realizations lie in different components.");
-            let _ = writeln!(o, "Closest pair by Cayley distance: {}", c.distance);
+            let _ = writeln!(o, "Closest pair by Cayley distance: {}", full(c.distance));
             let _ = writeln!(o, "  {}  and  {}", r(&c.a), r(&c.b));
             let _ = writeln!(o, "  {}", c.certificate);
             return o;

@@ -16,6 +16,9 @@ use crate::realize::{Construction, P2, RealizationType};
 /// The relative gap the closest pair is certified to by default.
 pub const DEFAULT_GAP: f64 = 1e-9;
 
+/// Point enclosures spent at most on polishing the best pair (a few ms).
+const POLISH_BUDGET: usize = 400;
+
 /// Default work budget of the closest-pair search, in boxes evaluated: about
 /// 15 µs each (a bound, and at most one new piece of a component enclosed),
 /// so at most a few seconds and tens of MB.
@@ -408,6 +411,48 @@ impl Best {
     }
 }
 
+/// Local Gauss–Newton steps on F = |V_a − V_b|² from the best pair, inside
+/// its two halves, each costing two point enclosures: a near-optimal pair
+/// early lets the search stop as soon as the bounds allow (where the curves
+/// meet, at once). Only the bounds prove anything; this only finds pairs.
+/// Returns the point enclosures spent (at most `budget`).
+fn polish(best: &mut Best, pieces: &mut (Pieces, Pieces), budget: usize) -> usize {
+    let mut spent = 0;
+    let mut damping = 1.0;
+    while spent + 2 <= budget {
+        let Some((ha, ta, hb, tb)) = best.at else { break };
+        let (a, b) = (pieces.0.get(ha, Interval::point(ta)), pieces.1.get(hb, Interval::point(tb)));
+        let (mut jaa, mut jab, mut jbb, mut ga, mut gb) = (0.0, 0.0, 0.0, 0.0, 0.0);
+        for ([va, da], [vb, db]) in a.at_c.iter().zip(&b.at_c) {
+            let (g, ja, jb) = (va.mid() - vb.mid(), da.mid(), -db.mid());
+            (jaa, jab, jbb, ga, gb) = (jaa + ja * ja, jab + ja * jb, jbb + jb * jb, ga + ja * g, gb + jb * g);
+        }
+        let mu = 1e-12 * (jaa + jbb) + f64::MIN_POSITIVE;
+        let det = (jaa + mu) * (jbb + mu) - jab * jab;
+        if det.is_nan() || det <= 0.0 {
+            break;
+        }
+        let step = [damping * ((jbb + mu) * ga - jab * gb) / det, damping * ((jaa + mu) * gb - jab * ga) / det];
+        let clamp = |t: f64, s: f64, h: &Half| (t - s).clamp(0.0, h.t_safe);
+        let (na, nb) = (clamp(ta, step[0], &pieces.0.halves[ha]), clamp(tb, step[1], &pieces.1.halves[hb]));
+        if na == ta && nb == tb {
+            break;
+        }
+        let (a, b) = (pieces.0.get(ha, Interval::point(na)), pieces.1.get(hb, Interval::point(nb)));
+        spent += 2;
+        let before = best.upper;
+        best.offer((pieces.0.halves, pieces.1.halves), &a, &b, bounds(&a, &b).centre);
+        if best.upper < before {
+            damping = 1.0;
+        } else if damping > 0.01 {
+            damping /= 4.0;
+        } else {
+            break;
+        }
+    }
+    spent
+}
+
 /// Closest pair by Cayley distance, certified by branch and bound.
 ///
 /// Each component is cut into halves of segments parametrized from their ends
@@ -434,14 +479,16 @@ pub fn closest_pair(
     }
     let (ha, hb) = (halves(con, space, &seg_a), halves(con, space, &seg_b));
     let unverified_ends = ha.iter().chain(&hb).filter(|h| !h.verified).count();
-    let mut pieces_a = Pieces { con, ccv, halves: &ha, known: HashMap::new() };
-    let mut pieces_b = Pieces { con, ccv, halves: &hb, known: HashMap::new() };
+    let mut pieces = (
+        Pieces { con, ccv, halves: &ha, known: HashMap::new() },
+        Pieces { con, ccv, halves: &hb, known: HashMap::new() },
+    );
     let sides = |pieces: &mut Pieces, box_of: &dyn Fn(&Half) -> Interval| -> Vec<Rc<Side>> {
         (0..pieces.halves.len()).map(|i| pieces.get(i, box_of(&pieces.halves[i]))).collect()
     };
     let mut best = Best { upper: f64::INFINITY, point_lower: 0.0, at: None };
     // Every pair of interval ends is a candidate.
-    let (ends_a, ends_b) = (sides(&mut pieces_a, &|_| Interval::ZERO), sides(&mut pieces_b, &|_| Interval::ZERO));
+    let (ends_a, ends_b) = (sides(&mut pieces.0, &|_| Interval::ZERO), sides(&mut pieces.1, &|_| Interval::ZERO));
     for a in &ends_a {
         for b in &ends_b {
             best.offer((&ha, &hb), a, b, bounds(a, b).centre);
@@ -449,7 +496,7 @@ pub fn closest_pair(
     }
     let end_pairs = ends_a.len() * ends_b.len();
     let whole = |h: &Half| Interval::new(0.0, h.t_max);
-    let (all_a, all_b) = (sides(&mut pieces_a, &whole), sides(&mut pieces_b, &whole));
+    let (all_a, all_b) = (sides(&mut pieces.0, &whole), sides(&mut pieces.1, &whole));
     let mut heap = BinaryHeap::new();
     let mut boxes = 0;
     for a in &all_a {
@@ -460,6 +507,8 @@ pub fn closest_pair(
             heap.push(Node { lower: bd.lower, split_a: bd.split_a, a: a.clone(), b: b.clone() });
         }
     }
+    let mut polish_left = POLISH_BUDGET;
+    polish_left -= polish(&mut best, &mut pieces, polish_left);
     // Lowest bound of the boxes set aside: pruned, or too small to split.
     let mut floor = f64::INFINITY;
     let outcome = loop {
@@ -487,10 +536,11 @@ pub fn closest_pair(
             (false, true) => false,
             (true, true) => node.split_a,
         };
-        let (piece, pieces) = if split_a { (&node.a, &mut pieces_a) } else { (&node.b, &mut pieces_b) };
+        let (piece, cache) = if split_a { (&node.a, &mut pieces.0) } else { (&node.b, &mut pieces.1) };
         let m = piece.t.mid();
+        let before = best.upper;
         for t in [Interval::new(piece.t.lo, m), Interval::new(m, piece.t.hi)] {
-            let child = pieces.get(piece.half, t);
+            let child = cache.get(piece.half, t);
             let (a, b) = if split_a { (child, node.b.clone()) } else { (node.a.clone(), child) };
             let bd = bounds(&a, &b);
             boxes += 1;
@@ -500,6 +550,9 @@ pub fn closest_pair(
             } else {
                 heap.push(Node { lower: bd.lower, split_a: bd.split_a, a, b });
             }
+        }
+        if best.upper < before {
+            polish_left -= polish(&mut best, &mut pieces, polish_left);
         }
     };
     let lower = heap.peek().map_or(f64::INFINITY, |n| n.lower).min(floor).min(best.upper);

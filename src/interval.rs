@@ -180,6 +180,11 @@ impl Dual {
         Dual { v: x, d: Interval::ZERO, dd: Interval::ZERO }
     }
 
+    /// Whether both derivatives are exactly zero.
+    pub fn is_constant(self) -> bool {
+        self.d == Interval::ZERO && self.dd == Interval::ZERO
+    }
+
     /// The parameter itself over `x`.
     pub fn variable(x: Interval) -> Dual {
         Dual { v: x, d: Interval::point(1.0), dd: Interval::ZERO }
@@ -246,6 +251,12 @@ impl Neg for Dual {
 impl Mul for Dual {
     type Output = Dual;
     fn mul(self, o: Dual) -> Dual {
+        if o.is_constant() {
+            return Dual { v: self.v * o.v, d: self.d * o.v, dd: self.dd * o.v };
+        }
+        if self.is_constant() {
+            return Dual { v: self.v * o.v, d: self.v * o.d, dd: self.v * o.dd };
+        }
         Dual {
             v: self.v * o.v,
             d: self.d * o.v + self.v * o.d,
@@ -258,6 +269,9 @@ impl Div for Dual {
     type Output = Dual;
     /// q = a/b: q' = (a' − q b')/b, q'' = (a'' − 2q'b' − q b'')/b.
     fn div(self, o: Dual) -> Dual {
+        if o.is_constant() {
+            return Dual { v: self.v / o.v, d: self.d / o.v, dd: self.dd / o.v };
+        }
         let q = self.v / o.v;
         let d = (self.d - q * o.d) / o.v;
         Dual { v: q, d, dd: (self.dd - (d * o.d).twice() - q * o.dd) / o.v }
@@ -362,6 +376,11 @@ macro_rules! centred_op {
         impl $trait for Centred {
             type Output = Centred;
             fn $f(self, o: Centred) -> Centred {
+                // With a constant operand the centred forms gain nothing over
+                // the other operand's own (already tightened) enclosure.
+                if self.s == Offset::NONE || o.s == Offset::NONE {
+                    return Centred { c: self.c.$f(o.c), b: self.b.$f(o.b), s: self.offset(o) };
+                }
                 Centred::new(self.c.$f(o.c), self.b.$f(o.b), self.offset(o))
             }
         }
