@@ -181,7 +181,16 @@ struct Pieces<'a> {
     known: HashMap<(usize, u64, u64), Rc<Side>>,
 }
 
-impl Pieces<'_> {
+impl<'a> Pieces<'a> {
+    fn new(con: &'a Construction<f64>, ccv: &'a [[usize; 2]], halves: &'a [Half]) -> Self {
+        Pieces { con, ccv, halves, known: HashMap::new() }
+    }
+
+    /// One piece per half, over the box `box_of(half)`.
+    fn all(&mut self, box_of: impl Fn(&Half) -> Interval) -> Vec<Rc<Side>> {
+        (0..self.halves.len()).map(|i| self.get(i, box_of(&self.halves[i]))).collect()
+    }
+
     fn get(&mut self, half: usize, t: Interval) -> Rc<Side> {
         let (con, ccv, h) = (self.con, self.ccv, &self.halves[half]);
         let make = || {
@@ -453,6 +462,87 @@ fn polish(best: &mut Best, pieces: &mut (Pieces, Pieces), budget: usize) -> usiz
     spent
 }
 
+/// The branch and bound: boxes (a piece of A × a piece of B) waiting lowest
+/// bound first, the best proven pair, and the work done.
+struct Search<'a> {
+    pieces: (Pieces<'a>, Pieces<'a>),
+    heap: BinaryHeap<Node>,
+    best: Best,
+    boxes: usize,
+    /// Lowest bound of the boxes set aside: pruned, or too small to split.
+    floor: f64,
+    polish_left: usize,
+    opts: ClosestOptions,
+}
+
+impl Search<'_> {
+    /// The proven lower bound over everything not yet resolved.
+    fn lower(&self) -> f64 {
+        self.heap.peek().map_or(f64::INFINITY, |n| n.lower).min(self.floor)
+    }
+
+    /// The gap aimed at: the requested one, unless the best pair's own
+    /// distance is not resolved that finely (no bound can then do better
+    /// than about that resolution).
+    fn reach(&self) -> f64 {
+        self.opts.gap.max(2.0 * self.best.resolution())
+    }
+
+    /// Bound a box, offer its centres, and keep it unless it is resolved.
+    fn push(&mut self, a: Rc<Side>, b: Rc<Side>) {
+        let bd = bounds(&a, &b);
+        self.boxes += 1;
+        self.best.offer((self.pieces.0.halves, self.pieces.1.halves), &a, &b, bd.centre);
+        if bd.lower >= (1.0 - self.reach()) * self.best.upper {
+            self.floor = self.floor.min(bd.lower);
+        } else {
+            self.heap.push(Node { lower: bd.lower, split_a: bd.split_a, a, b });
+        }
+    }
+
+    fn polish(&mut self) {
+        self.polish_left -= polish(&mut self.best, &mut self.pieces, self.polish_left);
+    }
+
+    /// Split the lowest box in two; `Some` when the search is over.
+    fn step(&mut self) -> Option<Outcome> {
+        let reach = self.reach();
+        if self.best.upper - self.lower() <= reach * self.best.upper {
+            return Some(if reach > self.opts.gap { Outcome::Resolution } else { Outcome::GapReached });
+        }
+        let Some(node) = self.heap.pop() else { return Some(Outcome::Resolution) };
+        if self.boxes >= self.opts.max_boxes {
+            self.heap.push(node);
+            return Some(Outcome::Budget);
+        }
+        let splittable = |s: &Side| {
+            let m = s.t.mid();
+            m > s.t.lo && m < s.t.hi
+        };
+        let split_a = match (splittable(&node.a), splittable(&node.b)) {
+            (false, false) => {
+                self.floor = self.floor.min(node.lower);
+                return None;
+            }
+            (true, true) => node.split_a,
+            (a, _) => a,
+        };
+        let piece = if split_a { &node.a } else { &node.b };
+        let m = piece.t.mid();
+        let before = self.best.upper;
+        for t in [Interval::new(piece.t.lo, m), Interval::new(m, piece.t.hi)] {
+            let cache = if split_a { &mut self.pieces.0 } else { &mut self.pieces.1 };
+            let child = cache.get(piece.half, t);
+            let (a, b) = if split_a { (child, node.b.clone()) } else { (node.a.clone(), child) };
+            self.push(a, b);
+        }
+        if self.best.upper < before {
+            self.polish();
+        }
+        None
+    }
+}
+
 /// Closest pair by Cayley distance, certified by branch and bound.
 ///
 /// Each component is cut into halves of segments parametrized from their ends
@@ -479,97 +569,41 @@ pub fn closest_pair(
     }
     let (ha, hb) = (halves(con, space, &seg_a), halves(con, space, &seg_b));
     let unverified_ends = ha.iter().chain(&hb).filter(|h| !h.verified).count();
-    let mut pieces = (
-        Pieces { con, ccv, halves: &ha, known: HashMap::new() },
-        Pieces { con, ccv, halves: &hb, known: HashMap::new() },
-    );
-    let sides = |pieces: &mut Pieces, box_of: &dyn Fn(&Half) -> Interval| -> Vec<Rc<Side>> {
-        (0..pieces.halves.len()).map(|i| pieces.get(i, box_of(&pieces.halves[i]))).collect()
+    let mut search = Search {
+        pieces: (Pieces::new(con, ccv, &ha), Pieces::new(con, ccv, &hb)),
+        heap: BinaryHeap::new(),
+        best: Best { upper: f64::INFINITY, point_lower: 0.0, at: None },
+        boxes: 0,
+        floor: f64::INFINITY,
+        polish_left: POLISH_BUDGET,
+        opts,
     };
-    let mut best = Best { upper: f64::INFINITY, point_lower: 0.0, at: None };
-    // Every pair of interval ends is a candidate.
-    let (ends_a, ends_b) = (sides(&mut pieces.0, &|_| Interval::ZERO), sides(&mut pieces.1, &|_| Interval::ZERO));
+    // Every pair of interval ends is a candidate; then every pair of halves is a box.
+    let (ends_a, ends_b) = (search.pieces.0.all(|_| Interval::ZERO), search.pieces.1.all(|_| Interval::ZERO));
     for a in &ends_a {
         for b in &ends_b {
-            best.offer((&ha, &hb), a, b, bounds(a, b).centre);
+            search.best.offer((&ha, &hb), a, b, bounds(a, b).centre);
         }
     }
     let end_pairs = ends_a.len() * ends_b.len();
     let whole = |h: &Half| Interval::new(0.0, h.t_max);
-    let (all_a, all_b) = (sides(&mut pieces.0, &whole), sides(&mut pieces.1, &whole));
-    let mut heap = BinaryHeap::new();
-    let mut boxes = 0;
+    let (all_a, all_b) = (search.pieces.0.all(whole), search.pieces.1.all(whole));
     for a in &all_a {
         for b in &all_b {
-            let bd = bounds(a, b);
-            boxes += 1;
-            best.offer((&ha, &hb), a, b, bd.centre);
-            heap.push(Node { lower: bd.lower, split_a: bd.split_a, a: a.clone(), b: b.clone() });
+            search.push(a.clone(), b.clone());
         }
     }
-    let mut polish_left = POLISH_BUDGET;
-    polish_left -= polish(&mut best, &mut pieces, polish_left);
-    // Lowest bound of the boxes set aside: pruned, or too small to split.
-    let mut floor = f64::INFINITY;
+    search.polish();
     let outcome = loop {
-        let lower = heap.peek().map_or(f64::INFINITY, |n| n.lower).min(floor);
-        // No gap finer than twice the best pair's own resolution can be reached.
-        let reach = opts.gap.max(2.0 * best.resolution());
-        if best.upper - lower <= reach * best.upper {
-            break if reach > opts.gap { Outcome::Resolution } else { Outcome::GapReached };
-        }
-        let Some(node) = heap.pop() else { break Outcome::Resolution };
-        if boxes >= opts.max_boxes {
-            heap.push(node);
-            break Outcome::Budget;
-        }
-        let splittable = |s: &Side| {
-            let m = s.t.mid();
-            m > s.t.lo && m < s.t.hi
-        };
-        let split_a = match (splittable(&node.a), splittable(&node.b)) {
-            (false, false) => {
-                floor = floor.min(node.lower);
-                continue;
-            }
-            (true, false) => true,
-            (false, true) => false,
-            (true, true) => node.split_a,
-        };
-        let (piece, cache) = if split_a { (&node.a, &mut pieces.0) } else { (&node.b, &mut pieces.1) };
-        let m = piece.t.mid();
-        let before = best.upper;
-        for t in [Interval::new(piece.t.lo, m), Interval::new(m, piece.t.hi)] {
-            let child = cache.get(piece.half, t);
-            let (a, b) = if split_a { (child, node.b.clone()) } else { (node.a.clone(), child) };
-            let bd = bounds(&a, &b);
-            boxes += 1;
-            best.offer((&ha, &hb), &a, &b, bd.centre);
-            if bd.lower >= (1.0 - opts.gap.max(2.0 * best.resolution())) * best.upper {
-                floor = floor.min(bd.lower);
-            } else {
-                heap.push(Node { lower: bd.lower, split_a: bd.split_a, a, b });
-            }
-        }
-        if best.upper < before {
-            polish_left -= polish(&mut best, &mut pieces, polish_left);
+        if let Some(outcome) = search.step() {
+            break outcome;
         }
     };
-    let lower = heap.peek().map_or(f64::INFINITY, |n| n.lower).min(floor).min(best.upper);
+    let (best, lower, boxes) = (&search.best, search.lower().min(search.best.upper), search.boxes);
     let (h_a, t_a, h_b, t_b) = best.at?;
-    let name = |hs: &[Half], segs: &[Segment], h: usize, t: f64| {
-        let seg = &segs[hs[h].segment];
-        Realization { ty: seg.ty.clone(), lambda: hs[h].lambda(t, seg) }
-    };
-    let (a, b) = (name(&ha, &seg_a, h_a, t_a), name(&hb, &seg_b, h_b, t_b));
-    let vector = |hs: &[Half], h: usize, t: f64, r: &Realization| {
-        let flat: &[usize] = if t == 0.0 { &hs[h].flat_steps } else { &[] };
-        con.realize_flat(r.lambda, &r.ty.0, con.steps.len(), flat).ok().map(|p| cayley_vector(&p, ccv))
-    };
-    let distance = match (vector(&ha, h_a, t_a, &a), vector(&hb, h_b, t_b, &b)) {
-        (Some(x), Some(y)) => euclid(&x, &y),
-        _ => best.upper,
-    };
+    let (a, va) = named(con, ccv, (&ha, &seg_a), h_a, t_a);
+    let (b, vb) = named(con, ccv, (&hb, &seg_b), h_b, t_b);
+    let distance = va.zip(vb).map_or(best.upper, |(x, y)| euclid(&x, &y));
     let upper = best.upper;
     let gap = if upper > 0.0 { (upper - lower) / upper } else { 0.0 };
     let certificate = Certificate {
@@ -587,6 +621,22 @@ pub fn closest_pair(
     // The curves meet: the best pair's distance is not resolved even to a factor 2.
     let crossing = best.point_lower <= 0.5 * best.upper;
     Some(ClosestPair { distance, a, b, mirror: false, crossing, certificate })
+}
+
+/// The realization half `h` names at `t` (its λ as an f64), with its Cayley
+/// vector in f64 (an end placed exactly flat).
+fn named(
+    con: &Construction<f64>,
+    ccv: &[[usize; 2]],
+    (hs, segs): (&[Half], &[Segment]),
+    h: usize,
+    t: f64,
+) -> (Realization, Option<Vec<f64>>) {
+    let seg = &segs[hs[h].segment];
+    let r = Realization { ty: seg.ty.clone(), lambda: hs[h].lambda(t, seg) };
+    let flat: &[usize] = if t == 0.0 { &hs[h].flat_steps } else { &[] };
+    let v = con.realize_flat(r.lambda, &r.ty.0, con.steps.len(), flat).ok().map(|p| cayley_vector(&p, ccv));
+    (r, v)
 }
 
 /// When every cluster is achiral and B holds the mirror image of every
