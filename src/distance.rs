@@ -1,6 +1,14 @@
 //! Cayley vectors and distances (THEORY.md §5), and the closest pair of
-//! realizations between two components, certified by branch and bound over
-//! proven interval enclosures ([`crate::enclosure`]).
+//! realizations between two components, certified by branch and bound.
+//!
+//! Each component is cut into halves of segments, enclosed with proofs by
+//! [`crate::enclosure`]. Boxes (a piece of one component × a piece of the
+//! other) get proven lower bounds and are split lowest bound first; the best
+//! pair found bounds the minimum from above (every pair of interval ends is a
+//! candidate, then the boxes' centres, polished by Gauss–Newton steps). The
+//! search stops when upper − lower ≤ gap × upper (certified), when f64 cannot
+//! resolve that gap at the best pair (curves that meet), or at a budget of
+//! boxes; the [`Certificate`] says which, as data.
 
 use std::cmp::Ordering;
 use std::collections::{BinaryHeap, HashMap};

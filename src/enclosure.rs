@@ -12,21 +12,25 @@
 //! in which the motion is smooth through the end (the flat step's height is
 //! t times a smooth positive function). Over a box of t the ruler-and-compass
 //! construction is evaluated in interval arithmetic with outward rounding
-//! ([`crate::interval`]), carrying the derivative in t: every value and every
-//! derivative at every exact point of the box lies in the result.
+//! ([`crate::interval`]), carrying the first and second derivatives in t, at
+//! the box's centre and over the box, every intermediate quantity tightened
+//! by its Taylor forms ([`Centred`]): every value and derivative at every
+//! exact point of the box lies in the result.
 //!
 //! The flat step's height needs care, since √S (S its slack) has derivative
 //! S'/(2√S), unbounded at the end. With S(λ*) = 0 the mean value theorem gives
 //! S(λ) = S'(ξ)·dir·t² for some ξ between λ* and λ, so √S = t·√a with
 //! a = S'(ξ)·dir, and d√S/dt = S'(λ)·dir/√a: both bounded once S'·dir > 0 is
-//! proven over the λ range. This needs λ* itself, which is only known as an
-//! f64: each end is **verified** by finding an interval Λ with the flat
-//! step's slack proven positive at its inner bound, negative at its outer
-//! one and strictly monotone over it (so λ* ∈ Λ, unique). The boxes then use
-//! λ ∈ Λ + dir·t².
+//! proven over the λ range (the second derivative: `root_near_end`). This
+//! needs λ* itself, which is only known as an f64: each end is **verified**
+//! by finding an interval Λ with the flat step's slack proven positive at its
+//! inner bound, negative at its outer one and strictly monotone over it (so
+//! λ* ∈ Λ, unique). The boxes then use λ ∈ Λ + dir·t².
 //!
 //! The numbers of the construction (`r1`, `r2`, member coordinates, all f64)
-//! are taken as exact: the proof is about the linkage they describe.
+//! are taken as exact: the proof is about the linkage they describe. The
+//! oriented intervals themselves (which type exists between which ends) are
+//! the analysis's; only their ends are verified here.
 
 use crate::cayley_space::{CayleySpace, Kind};
 use crate::interval::{Arith, Centred, Dual, Interval, Offset};

@@ -10,6 +10,7 @@ use caymos::generate::random_linkage;
 use caymos::interval::Interval;
 use caymos::motion::{Component, Realization, Segment, component_segments, realization_at};
 use caymos::scene::Scene;
+use proptest::prelude::*;
 
 fn solve(scene: Scene) -> (Analysis, Solved) {
     let a = analyse(scene, None).unwrap();
@@ -179,21 +180,20 @@ fn other_bundled_component_pairs_are_within_their_gap_of_a_dense_brute_force() {
     assert!(scenes >= 5);
 }
 
-#[test]
-fn random_linkages_are_within_their_gap_of_a_dense_brute_force() {
-    let mut pairs = 0;
-    for seed in 0..40u64 {
-        let (a, s) = solve(random_linkage(seed, 2 + (seed % 3) as usize, 0.3));
-        if s.components.list.len() < 2 {
-            continue;
-        }
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 12, ..ProptestConfig::default() })]
+
+    /// The same on random 1-dof linkages (bars and triangles: chiral or not).
+    #[test]
+    fn random_linkages_are_within_their_gap_of_a_dense_brute_force(
+        seed in any::<u64>(), steps in 2usize..6, tri in 0.0f64..0.7
+    ) {
+        let (a, s) = solve(random_linkage(seed, steps, tri));
+        prop_assume!(s.components.list.len() >= 2);
+        let n = s.components.list.len();
         check_pair(&a, &s, (0, 1), ClosestOptions::default());
-        pairs += 1;
-        if pairs == 8 {
-            return;
-        }
+        check_pair(&a, &s, (n - 2, n - 1), ClosestOptions::default());
     }
-    panic!("only {pairs} random linkages with two components");
 }
 
 /// Every enclosure holds the realizations it stands for: sampled points of
