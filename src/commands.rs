@@ -132,6 +132,10 @@ pub fn certificate_sentence(c: &Certificate) -> String {
             c.boxes, c.end_pairs
         ),
         Outcome::GapReached => format!("gap {req:e} reached over the intervals as computed: {range}"),
+        Outcome::Resolution if c.upper.is_infinite() => format!(
+            "not certified: f64 interval arithmetic cannot enclose these realizations (their construction is too \
+             deep for its rounding to stay small); proven: no two realizations are closer than {lo}"
+        ),
         Outcome::Resolution if c.lower == 0.0 && c.upper > 0.0 => format!(
             "not certified to {req:e}: the Cayley curves meet or nearly so (the pair above is 0 apart up to \
              rounding); proven: the minimum distance lies in [0, {hi}]"

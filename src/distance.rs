@@ -17,7 +17,7 @@ use std::rc::Rc;
 use crate::cayley_space::CayleySpace;
 use crate::decompose::Decomposition;
 use crate::enclosure::{Half, enclose, halves};
-use crate::interval::{Dual, Interval};
+use crate::interval::{Centred, Dual, Interval};
 use crate::motion::{Component, Realization, Segment, component_segments};
 use crate::realize::{Construction, P2, RealizationType};
 
@@ -116,9 +116,10 @@ pub enum Outcome {
     /// The requested relative gap was reached (or every box was pruned).
     GapReached,
     /// f64 interval arithmetic cannot resolve the best pair's distance to the
-    /// requested gap (for example the curves meet: distance 0 up to
-    /// rounding), or the remaining boxes cannot be split further; the search
-    /// stopped at the gap it can reach.
+    /// requested gap (the curves meet: distance 0 up to rounding; or the
+    /// construction is too deep for its enclosures to stay narrow, even
+    /// unbounded: `upper` is then infinite), or the remaining boxes cannot be
+    /// split further; the search stopped at the gap it can reach.
     Resolution,
     /// The box budget ran out first.
     Budget,
@@ -133,7 +134,7 @@ pub struct Certificate {
     /// Proven: the exact realizations the reported pair names (to f64
     /// precision in λ) are at Cayley distance ≤ `upper`.
     pub upper: f64,
-    /// (upper − lower) / upper (0 when upper is 0).
+    /// (upper − lower) / upper (0 when upper is 0, 1 when it is infinite).
     pub gap: f64,
     pub requested_gap: f64,
     pub outcome: Outcome,
@@ -177,6 +178,9 @@ struct Side {
     at_c: Vec<[Interval; 2]>,
     /// The Cayley vector with its t-derivatives over the box.
     over: Vec<Dual>,
+    /// The vector varies over the box by less than its own rounding at the
+    /// centre: splitting further cannot sharpen any bound.
+    saturated: bool,
 }
 
 /// The pieces of one component evaluated so far: a piece is met in many
@@ -203,12 +207,14 @@ impl<'a> Pieces<'a> {
         let (con, ccv, h) = (self.con, self.ccv, &self.halves[half]);
         let make = || {
             let v = enclose(con, ccv, h, t);
+            let width = |f: fn(&Centred) -> Interval| v.iter().map(|x| f(x).width()).sum::<f64>();
             Rc::new(Side {
                 half,
                 t,
                 tc: t.mid(),
                 at_c: v.iter().map(|x| [x.c.v, x.c.d]).collect(),
                 over: v.iter().map(|x| x.b).collect(),
+                saturated: width(|x| x.b.v) <= 4.0 * width(|x| x.c.v),
             })
         };
         self.known.entry((half, t.lo.to_bits(), t.hi.to_bits())).or_insert_with(make).clone()
@@ -422,9 +428,16 @@ impl Best {
         }
     }
 
-    /// The relative gap f64 resolves at the best pair itself.
+    /// The relative gap f64 resolves at the best pair itself (infinite when
+    /// no pair could be enclosed at all).
     fn resolution(&self) -> f64 {
-        if self.upper > 0.0 { (self.upper - self.point_lower) / self.upper } else { 0.0 }
+        if !self.upper.is_finite() {
+            f64::INFINITY
+        } else if self.upper > 0.0 {
+            (self.upper - self.point_lower) / self.upper
+        } else {
+            0.0
+        }
     }
 }
 
@@ -477,7 +490,8 @@ struct Search<'a> {
     heap: BinaryHeap<Node>,
     best: Best,
     boxes: usize,
-    /// Lowest bound of the boxes set aside: pruned, or too small to split.
+    /// Lowest bound of the boxes set aside: pruned, or too small (or too
+    /// blurred by rounding) to split.
     floor: f64,
     polish_left: usize,
     opts: ClosestOptions,
@@ -515,7 +529,7 @@ impl Search<'_> {
     /// Split the lowest box in two; `Some` when the search is over.
     fn step(&mut self) -> Option<Outcome> {
         let reach = self.reach();
-        if self.best.upper - self.lower() <= reach * self.best.upper {
+        if reach.is_infinite() || self.best.upper - self.lower() <= reach * self.best.upper {
             return Some(if reach > self.opts.gap { Outcome::Resolution } else { Outcome::GapReached });
         }
         let Some(node) = self.heap.pop() else { return Some(Outcome::Resolution) };
@@ -525,7 +539,7 @@ impl Search<'_> {
         }
         let splittable = |s: &Side| {
             let m = s.t.mid();
-            m > s.t.lo && m < s.t.hi
+            m > s.t.lo && m < s.t.hi && !s.saturated
         };
         let split_a = match (splittable(&node.a), splittable(&node.b)) {
             (false, false) => {
@@ -613,7 +627,7 @@ pub fn closest_pair(
     let (b, vb) = named(con, ccv, (&hb, &seg_b), h_b, t_b);
     let distance = va.zip(vb).map_or(best.upper, |(x, y)| euclid(&x, &y));
     let upper = best.upper;
-    let gap = if upper > 0.0 { (upper - lower) / upper } else { 0.0 };
+    let gap = if upper.is_finite() && upper > 0.0 { (upper - lower) / upper } else { f64::from(upper > 0.0) };
     let certificate = Certificate {
         lower,
         upper,
@@ -679,4 +693,69 @@ fn mirror_pair(
         unverified_ends: 0,
     };
     Some(ClosestPair { distance: 0.0, a, b, mirror: true, crossing: false, certificate })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// No pair enclosed at all (a construction too deep for f64 intervals):
+    /// the search stops at once, and never calls that a reached gap.
+    #[test]
+    fn an_unbounded_best_pair_is_never_a_reached_gap() {
+        let ccv = [[0, 1]];
+        let con = Construction::<f64> { n_joints: 2, base: [0, 1], steps: vec![], scale: 1.0, shapes: vec![] };
+        let mut search = Search {
+            pieces: (Pieces::new(&con, &ccv, &[]), Pieces::new(&con, &ccv, &[])),
+            heap: BinaryHeap::new(),
+            best: Best { upper: f64::INFINITY, point_lower: 0.0, at: None },
+            boxes: 0,
+            floor: 0.0,
+            polish_left: 0,
+            opts: ClosestOptions::default(),
+        };
+        assert_eq!(search.step(), Some(Outcome::Resolution));
+        // With a finite pair and every box resolved, the gap is reached.
+        search.best = Best { upper: 1.0, point_lower: 1.0 - 1e-15, at: None };
+        search.floor = 1.0 - 1e-12;
+        assert_eq!(search.step(), Some(Outcome::GapReached));
+        search.floor = 0.5;
+        assert_eq!(search.step(), Some(Outcome::Resolution), "nothing left to split, the gap not reached");
+    }
+
+    #[test]
+    fn quadratic_lower_bounds_hold_on_a_grid() {
+        let cases = [
+            ([1.0, -2.0], [2.0, -1.9, 2.0]), // a valley: nearly singular, convex
+            ([0.5, 0.3], [-1.0, 0.2, 3.0]),  // concave along a
+            ([0.0, 0.0], [1.0, 0.0, -2.0]),  // concave along b
+            ([-3.0, 1.0], [4.0, 1.0, 1.0]),  // stationary point inside
+            ([0.2, -0.1], [1.0, 2.0, 1.0]),  // a saddle with a positive diagonal
+        ];
+        for (g, h) in cases {
+            let widen = |x: f64| Interval::new(x - 1e-3, x + 1e-3);
+            let s = [Interval::new(-0.7, 0.4), Interval::new(-0.3, 0.9)];
+            let lower = quadratic_lower([widen(g[0]), widen(g[1])], [widen(h[0]), widen(h[1]), widen(h[2])], s);
+            for i in 0..=40 {
+                for j in 0..=40 {
+                    let (x, y) = (-0.7 + 1.1 * i as f64 / 40.0, -0.3 + 1.2 * j as f64 / 40.0);
+                    for (dg, dh) in [(1e-3, -1e-3), (-1e-3, 1e-3), (0.0, 0.0)] {
+                        let (ga, gb) = (g[0] + dg, g[1] - dg);
+                        let (haa, hab, hbb) = (h[0] + dh, h[1] - dh, h[2] + dh);
+                        let q = ga * x + gb * y + 0.5 * (haa * x * x + 2.0 * hab * x * y + hbb * y * y);
+                        assert!(lower <= q + 1e-12, "g {g:?} h {h:?}: {lower} > q({x}, {y}) = {q}");
+                    }
+                }
+            }
+            if h[0] * h[2] < h[1] * h[1] {
+                continue; // a saddle: sound, but not sharp
+            }
+            // And it is sharp: within the coefficients' uncertainty of the true minimum.
+            let min = (0..=400)
+                .flat_map(|i| (0..=400).map(move |j| (-0.7 + 1.1 * i as f64 / 400.0, -0.3 + 1.2 * j as f64 / 400.0)))
+                .map(|(x, y)| g[0] * x + g[1] * y + 0.5 * (h[0] * x * x + 2.0 * h[1] * x * y + h[2] * y * y))
+                .fold(f64::INFINITY, f64::min);
+            assert!(lower >= min - 1e-2, "g {g:?} h {h:?}: {lower} far below {min}");
+        }
+    }
 }
