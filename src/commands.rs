@@ -7,7 +7,7 @@ use std::fmt::Write as _;
 use serde::Serialize;
 
 use crate::analysis::{Analysis, Solved};
-use crate::distance::{ClosestPair, closest_pair};
+use crate::distance::{Certificate, ClosestOptions, ClosestPair, Outcome, closest_pair};
 use crate::motion::{Realization, Segment, Stepper, arcs, component_segments, explain_missing, locate, measure};
 
 /// The default geometric step: 1% of the scene scale.
@@ -66,17 +66,98 @@ pub struct RealizationOut {
     pub component: usize,
 }
 
+/// The closest pair between two components with its certificate: the
+/// numbers are the solver's ([`Certificate`]); `certificate` says them in words.
 #[derive(Debug, Clone, Serialize)]
 pub struct ClosestOut {
     pub distance: f64,
     pub a: RealizationOut,
     pub b: RealizationOut,
-    pub best_sampled: f64,
-    pub samples_per_component: usize,
+    /// Proven: no pair of realizations, one in each component, is closer.
+    pub lower_bound: f64,
+    /// Proven: the exact realizations named by `a` and `b` are at most this far apart.
+    pub upper_bound: f64,
+    /// (upper_bound − lower_bound) / upper_bound.
+    pub relative_gap: f64,
+    pub requested_gap: f64,
+    /// The requested gap was reached with every interval end verified.
+    pub certified: bool,
+    pub outcome: Outcome,
+    pub boxes: usize,
+    pub max_boxes: usize,
+    pub end_pairs: usize,
+    pub unverified_ends: usize,
     pub mirror_images: bool,
     /// Zero distance between different realizations: the Cayley curves cross.
     pub curves_cross: bool,
     pub certificate: String,
+}
+
+impl ClosestOut {
+    pub fn to_text(&self) -> String {
+        format!(
+            "Closest pair between components {} and {}: Cayley distance {}\n  {}@{}  and  {}@{}\n  {}\n",
+            self.a.component,
+            self.b.component,
+            full(self.distance),
+            self.a.ty,
+            self.a.lambda,
+            self.b.ty,
+            self.b.lambda,
+            self.certificate
+        )
+    }
+}
+
+/// A distance to full precision: the shortest form that reads back exactly,
+/// in scientific notation when tiny or huge.
+fn full(x: f64) -> String {
+    if x == 0.0 || (1e-4..1e15).contains(&x.abs()) { format!("{x}") } else { format!("{x:e}") }
+}
+
+/// The certificate in words: "certified to …" only when it is.
+pub fn certificate_sentence(c: &Certificate) -> String {
+    let (lo, hi, req) = (full(c.lower), full(c.upper), c.requested_gap);
+    let range = format!("the minimum distance lies in [{lo}, {hi}] (relative gap {:.1e})", c.gap);
+    let mut o = match c.outcome {
+        Outcome::Mirror => {
+            return "distance exactly 0: the components are mirror images (every realization's mirror lies in the \
+                    other, with the same Cayley vector)"
+                .into();
+        }
+        Outcome::GapReached if c.certified => format!(
+            "certified to {req:e}: no two realizations, one in each component, are closer than {lo}, and the pair \
+             above is at most {hi} apart (interval arithmetic with outward rounding over {} boxes and {} pairs of \
+             interval ends, every end verified)",
+            c.boxes, c.end_pairs
+        ),
+        Outcome::GapReached => format!("gap {req:e} reached over the intervals as computed: {range}"),
+        Outcome::Resolution if c.upper.is_infinite() => format!(
+            "not certified: f64 interval arithmetic cannot enclose these realizations (their construction is too \
+             deep for its rounding to stay small); proven: no two realizations are closer than {lo}"
+        ),
+        Outcome::Resolution if c.lower == 0.0 && c.upper > 0.0 => format!(
+            "not certified to {req:e}: the Cayley curves meet or nearly so (the pair above is 0 apart up to \
+             rounding); proven: the minimum distance lies in [0, {hi}]"
+        ),
+        Outcome::Resolution => {
+            format!(
+                "not certified to {req:e}: f64 interval arithmetic does not resolve the distance that finely here; proven: {range}"
+            )
+        }
+        Outcome::Budget => {
+            format!("not certified to {req:e}: the budget of {} boxes ran out; proven: {range}", c.max_boxes)
+        }
+    };
+    if c.unverified_ends > 0 {
+        let _ = write!(
+            o,
+            "; not certified: {} interval ends could not be verified (several steps flat at once, or a tangency), \
+             so the bounds hold for the intervals as computed",
+            c.unverified_ends
+        );
+    }
+    o
 }
 
 #[derive(Debug, Clone, Serialize)]
@@ -97,20 +178,35 @@ fn closest_out(s: &Solved, c: &ClosestPair, (ca, cb): (usize, usize)) -> Closest
     let comp = |r: &Realization, fallback: usize| {
         locate(&s.space, r, s.construction.scale).map_or(fallback, |i| s.components.of_interval[i])
     };
+    let cert = &c.certificate;
     ClosestOut {
         distance: c.distance,
         a: RealizationOut { ty: c.a.ty.to_string(), lambda: c.a.lambda, component: comp(&c.a, ca) },
         b: RealizationOut { ty: c.b.ty.to_string(), lambda: c.b.lambda, component: comp(&c.b, cb) },
-        best_sampled: c.best_sampled,
-        samples_per_component: c.samples,
+        lower_bound: cert.lower,
+        upper_bound: cert.upper,
+        relative_gap: cert.gap,
+        requested_gap: cert.requested_gap,
+        certified: cert.certified,
+        outcome: cert.outcome,
+        boxes: cert.boxes,
+        max_boxes: cert.max_boxes,
+        end_pairs: cert.end_pairs,
+        unverified_ends: cert.unverified_ends,
         mirror_images: c.mirror,
         curves_cross: c.crossing,
-        certificate: c.certificate.clone(),
+        certificate: certificate_sentence(cert),
     }
 }
 
-/// Closest pair between components `i` and `j` (indices into the component list).
+/// Closest pair between components `i` and `j` (indices into the component
+/// list), certified to the default relative gap.
 pub fn closest(a: &Analysis, s: &Solved, i: usize, j: usize) -> Result<ClosestOut, String> {
+    closest_with(a, s, i, j, ClosestOptions::default())
+}
+
+/// [`closest`] with the gap and work budget chosen.
+pub fn closest_with(_a: &Analysis, s: &Solved, i: usize, j: usize, opts: ClosestOptions) -> Result<ClosestOut, String> {
     let n = s.components.list.len();
     if i >= n || j >= n {
         return Err(format!(
@@ -121,10 +217,12 @@ pub fn closest(a: &Analysis, s: &Solved, i: usize, j: usize) -> Result<ClosestOu
     if i == j {
         return Err("the two components must differ (distance within one component is 0)".into());
     }
+    if !(opts.gap > 0.0 && opts.gap < 1.0) {
+        return Err(format!("--gap {}: give a relative gap between 0 and 1, e.g. 1e-9", opts.gap));
+    }
     let (ci, cj) = (&s.components.list[i], &s.components.list[j]);
-    let c = closest_pair(&s.construction, &s.dec, &s.space, &s.complexity.ccv, (ci, cj), 256)
+    let c = closest_pair(&s.construction, &s.dec, &s.space, &s.complexity.ccv, (ci, cj), opts)
         .ok_or_else(|| "no realizations to compare".to_string())?;
-    let _ = a;
     Ok(closest_out(s, &c, (i, j)))
 }
 
@@ -191,7 +289,7 @@ impl PathReport {
         let _ = writeln!(o, "From {}  to {}", r(&self.from), r(&self.to));
         if let Some(c) = &self.closest_pair {
             let _ = writeln!(o, "No path: the realizations lie in different components.");
-            let _ = writeln!(o, "Closest pair by Cayley distance: {}", crate::report::fmt_sci(c.distance));
+            let _ = writeln!(o, "Closest pair by Cayley distance: {}", full(c.distance));
             let _ = writeln!(o, "  {}  and  {}", r(&c.a), r(&c.b));
             let _ = writeln!(o, "  {}", c.certificate);
             return o;

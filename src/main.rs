@@ -121,6 +121,9 @@ enum Command {
         /// Two component indices as in the report, e.g. `0,3`.
         #[arg(long)]
         components: String,
+        /// Relative gap to certify the distance to (proven lower bound vs. the pair found).
+        #[arg(long, default_value_t = caymos::distance::DEFAULT_GAP)]
+        gap: f64,
         #[arg(long, value_enum, default_value = "text")]
         format: Format,
     },
@@ -249,21 +252,17 @@ fn run(command: Command) -> Result<u8, Failure> {
             write_out(output, &commands::trace_csv(&a, &s, segments, &joints, step, cayley))?;
             Ok(0)
         }
-        Command::Closest { scene, components, format } => {
+        Command::Closest { scene, components, gap, format } => {
             let (a, s) = solved(scene.as_deref())?;
             let pair: Vec<Option<usize>> = components.split(',').map(|x| x.trim().parse().ok()).collect();
             let [Some(i), Some(j)] = pair[..] else {
                 return Err(arg_error(format!("--components {components}: give two component indices, e.g. 0,3")));
             };
-            let c = commands::closest(&a, &s, i, j).map_err(arg_error)?;
+            let opts = caymos::distance::ClosestOptions { gap, ..Default::default() };
+            let c = commands::closest_with(&a, &s, i, j, opts).map_err(arg_error)?;
             match format {
                 Format::Json => emit(&format!("{}\n", serde_json::to_string_pretty(&c).expect("serializes"))),
-                Format::Text => {
-                    emit(&format!(
-                        "Closest pair between components {i} and {j}: Cayley distance {}\n  {}@{}  and  {}@{}\n  {}\n",
-                        c.distance, c.a.ty, c.a.lambda, c.b.ty, c.b.lambda, c.certificate
-                    ));
-                }
+                Format::Text => emit(&c.to_text()),
             }
             Ok(0)
         }
