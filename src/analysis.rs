@@ -413,7 +413,7 @@ pub fn analyse_with(scene: Scene, base_override: Option<[usize; 2]>, scope: Scop
     warnings.extend(describe_notes(&linkage, &dec, &space.notes));
     if certifier.estimated() > 0 {
         warnings.push(format!(
-            "{} decisions on deep steps (is a slack zero at an end or inside a gap) rest on a double-double error estimate, not a proof (proven bounds grow too wide along this deep construction)",
+            "{} decisions on deep steps (is a slack zero at an end or inside a gap) rest on a double-double error estimate, not a proof: the proven bounds were too wide there (deep constructions, touching slacks)",
             certifier.estimated()
         ));
     }

@@ -262,7 +262,23 @@ B = [0.5, 0.8]
 C = [3.0, 0.5]
 D = [0.9, -0.3]
 "#;
-    for (name, text) in [("parallelogram", parallelogram), ("kite", kite)] {
+    // |BC| + |CD| = |BP| + |PD| = 5 exactly: P's step touches stretched
+    // where |BD| is largest (case 5).
+    let tangent = r#"
+base = ["O", "C"]
+ground = ["O", "A"]
+bars = [ ["O","A",2.0], ["A","C",2.0], ["O","B",5.0], ["O","D",5.0], ["C","B",3.0], ["C","D",2.0], ["B","P",2.5], ["P","D",2.5] ]
+[joints]
+O = [0.0, 0.0]
+A = [2.0, 0.0]
+C = [3.2855752193730785, 1.532088886237956]
+B = [2.3859225013256795, 4.3940156824558345]
+D = [4.97817393156854, 0.46667366226457063]
+P = [2.9768057828522245, 1.9648477286880386]
+"#;
+    let (_, t) = solve(parse_scene(tangent, "tangent", "tangent").unwrap());
+    assert_eq!(t.dec.other_bases.len(), 5);
+    for (name, text) in [("parallelogram", parallelogram), ("kite", kite), ("tangent", tangent)] {
         let scene = parse_scene(text, name, name).unwrap();
         assert_base_invariant(&scene);
     }
