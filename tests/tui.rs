@@ -150,7 +150,7 @@ fn a_scene_outside_the_class_is_shown_not_crashed_on() {
     assert!(a.model().is_none());
     press(&mut a, "]→ng1⏎abv?⎋");
     let mut t = Terminal::new(TestBackend::new(80, 24)).unwrap();
-    t.draw(|f| view::draw(f, &mut a, Theme { color: false })).unwrap();
+    t.draw(|f| view::draw(f, &a, Theme { color: false })).unwrap();
     let screen = format!("{}", t.backend());
     assert!(screen.contains("rigid"), "{screen}");
     press(&mut a, "q");
@@ -170,12 +170,12 @@ proptest! {
             let s = c.to_string();
             press(&mut a, &s);
             a.tick();
-            t.draw(|f| view::draw(f, &mut a, Theme { color: true })).unwrap();
+            t.draw(|f| view::draw(f, &a, Theme { color: true })).unwrap();
         }
     }
 }
 
-fn render(a: &mut App, w: u16, h: u16, theme: Theme) -> Terminal<TestBackend> {
+fn render(a: &App, w: u16, h: u16, theme: Theme) -> Terminal<TestBackend> {
     let mut t = Terminal::new(TestBackend::new(w, h)).unwrap();
     t.draw(|f| view::draw(f, a, theme)).unwrap();
     t
@@ -183,43 +183,43 @@ fn render(a: &mut App, w: u16, h: u16, theme: Theme) -> Terminal<TestBackend> {
 
 #[test]
 fn snapshot_linkage_view_80x24() {
-    let mut a = app("jansen");
-    insta::assert_snapshot!("jansen_linkage_80x24", render(&mut a, 80, 24, Theme { color: true }).backend());
+    let a = app("jansen");
+    insta::assert_snapshot!("jansen_linkage_80x24", render(&a, 80, 24, Theme { color: true }).backend());
 }
 
 #[test]
 fn snapshot_linkage_view_large_after_steps() {
     let mut a = app("limacon");
     press(&mut a, "]]LLL");
-    insta::assert_snapshot!("limacon_linkage_160x48", render(&mut a, 160, 48, Theme { color: true }).backend());
+    insta::assert_snapshot!("limacon_linkage_160x48", render(&a, 160, 48, Theme { color: true }).backend());
 }
 
 #[test]
 fn snapshot_cayley_curve_view() {
     let mut a = app("limacon");
     press(&mut a, "vrr");
-    insta::assert_snapshot!("limacon_curve_80x24", render(&mut a, 80, 24, Theme { color: true }).backend());
+    insta::assert_snapshot!("limacon_curve_80x24", render(&a, 80, 24, Theme { color: true }).backend());
 }
 
 #[test]
 fn snapshot_help_overlay() {
     let mut a = app("jansen");
     press(&mut a, "?");
-    insta::assert_snapshot!("help_80x24", render(&mut a, 80, 24, Theme { color: true }).backend());
-    insta::assert_snapshot!("help_160x48", render(&mut a, 160, 48, Theme { color: true }).backend());
+    insta::assert_snapshot!("help_80x24", render(&a, 80, 24, Theme { color: true }).backend());
+    insta::assert_snapshot!("help_160x48", render(&a, 160, 48, Theme { color: true }).backend());
 }
 
 #[test]
 fn snapshot_too_small() {
-    let mut a = app("jansen");
-    insta::assert_snapshot!("too_small_50x12", render(&mut a, 50, 12, Theme { color: true }).backend());
+    let a = app("jansen");
+    insta::assert_snapshot!("too_small_50x12", render(&a, 50, 12, Theme { color: true }).backend());
 }
 
 #[test]
 fn monochrome_theme_uses_no_colour_and_keeps_emphasis() {
     let mut a = app("jansen");
     press(&mut a, "]");
-    let t = render(&mut a, 80, 24, Theme { color: false });
+    let t = render(&a, 80, 24, Theme { color: false });
     let buf = t.backend().buffer();
     let mut emphasised = 0;
     for cell in buf.content() {
