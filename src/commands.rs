@@ -110,6 +110,25 @@ pub fn no_realization(a: &Analysis, s: &Solved) -> Option<String> {
             describe(ku)
         ));
     }
+    // A realization the sweep should have found: the drawn one, or (every
+    // step on the base, their ranges overlapping) any type inside the overlap.
+    let drawn_closes = con.realize(s.drawn.lambda, &s.drawn.ty).is_ok();
+    let all_on_base = on_base.len() == con.steps.len();
+    if drawn_closes || (all_on_base && !on_base.is_empty()) {
+        return Some(format!(
+            "no realization was found, yet {}: the analysis failed numerically (scene scale {}); please report this scene",
+            if drawn_closes {
+                format!(
+                    "the drawn realization (type {} at λ = {}) closes every step",
+                    crate::report::short_type(&s.drawn.ty.to_string()),
+                    fmt_num(s.drawn.lambda)
+                )
+            } else {
+                "every step stands on the base and their ranges overlap".to_string()
+            },
+            fmt_num(a.linkage.scale)
+        ));
+    }
     if s.lazy {
         return Some(format!(
             "no realization found: the lazy analysis walks from the drawn realization, and its type {} has none at λ = {} (`--all` analyses every type)",

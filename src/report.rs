@@ -118,6 +118,8 @@ pub struct Report {
     pub numeric_steps: Vec<usize>,
     pub accuracy: Option<AccuracyReport>,
     pub components: Vec<ComponentReport>,
+    /// Why there is no component, in words (`None` when there is one).
+    pub no_realization: Option<String>,
     /// The complete Cayley vector cannot tell mirror images apart (all clusters achiral).
     pub mirror_pairs: bool,
     pub warnings: Vec<String>,
@@ -156,6 +158,7 @@ impl Report {
             numeric_steps: Vec::new(),
             accuracy: None,
             components: Vec::new(),
+            no_realization: None,
             mirror_pairs: false,
             warnings: a.warnings.clone(),
             timings_us: a.timings.0.iter().map(|(k, v)| (k.to_string(), *v)).collect(),
@@ -233,6 +236,7 @@ impl Report {
                         closed: c.closed,
                     })
                     .collect();
+                r.no_realization = crate::commands::no_realization(a, s);
                 r.mirror_pairs = crate::distance::mirror_images_exist(&s.construction, &s.dec);
                 r.accuracy = s.accuracy.as_ref().map(|acc| AccuracyReport {
                     reference: "double-double (106-bit)",
@@ -379,7 +383,9 @@ impl Report {
                 ),
             }
         );
-        if let Some(a) = &self.accuracy {
+        if let (Some(_), true) = (&self.accuracy, self.oriented_intervals.is_empty()) {
+            let _ = writeln!(o, "{:<24}no endpoints to compare", "Accuracy");
+        } else if let Some(a) = &self.accuracy {
             let _ = writeln!(
                 o,
                 "{:<24}endpoints within {} of the double-double reference ({} relative){}",
@@ -431,6 +437,10 @@ impl Report {
     }
 
     fn write_components(&self, o: &mut String) {
+        if let Some(why) = &self.no_realization {
+            let _ = writeln!(o, "{:<24}0: {why}", "Components");
+            return;
+        }
         let _ = writeln!(
             o,
             "{:<24}{}{}",
@@ -465,7 +475,13 @@ impl Report {
             .collect();
         if rows.len() <= 40 {
             write_table(o, &["#", "intervals", "λ range", "types in order"], &rows);
-            let _ = writeln!(o, "  (* holds the drawn realization)");
+            if self.components.iter().any(|c| c.contains_drawn) {
+                let _ = writeln!(o, "  (* holds the drawn realization)");
+            } else {
+                let _ = writeln!(o, "  (the drawn realization lies in none of these components; see the warnings)");
+            }
+        } else {
+            let _ = writeln!(o, "  ({} components: the table is left out; --format json lists them)", rows.len());
         }
     }
 
