@@ -163,6 +163,7 @@ impl Report {
             warnings: a.warnings.clone(),
             timings_us: a.timings.0.iter().map(|(k, v)| (k.to_string(), *v)).collect(),
         };
+        r.warnings.extend(body_bar_warnings(a));
         match &a.outcome {
             Err(outside) => {
                 r.reason = Some(outside.describe(l));
@@ -532,6 +533,27 @@ impl Report {
             }
         }
     }
+}
+
+/// One warning per bar that repeats a body it agrees with (recognition ignores it).
+fn body_bar_warnings(a: &Analysis) -> Vec<String> {
+    let l = &a.linkage;
+    crate::decompose::bars_within_bodies(l)
+        .into_iter()
+        .filter(|b| b.agrees)
+        .map(|b| {
+            let line = a.scene.bars.get(b.bar).map_or(0, |bar| bar.line);
+            let at = if line > 0 { format!(", line {line}") } else { String::new() };
+            let body: Vec<&str> = l.bodies[b.body].iter().map(|&j| l.names[j].as_str()).collect();
+            format!(
+                "bar {} ({}{at}) joins two joints of body {} [{}], which already holds them at that length: the bar adds nothing and is ignored",
+                b.bar + 1,
+                l.pair_name(l.bars[b.bar].joints),
+                b.body + 1,
+                body.join(", ")
+            )
+        })
+        .collect()
 }
 
 /// A number with 6 significant digits, without trailing zeros.

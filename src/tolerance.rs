@@ -85,3 +85,8 @@ pub const TUI_MAX_SAMPLES: usize = 20_000;
 /// the realization is not resolved in f64: the rest of the segment is
 /// skipped as one marked jump instead of being crawled through float by float.
 pub const STEPPER_MAX_JUMPS_PER_SEGMENT: usize = 32;
+
+/// Two drawn points closer than this many units in the last place of their
+/// coordinates cannot be told apart by the drawing: the same point, however
+/// small the scene's scale (a resolution limit of f64, not a tolerance).
+pub const DRAWN_RESOLUTION_ULPS: f64 = 8.0;
