@@ -52,8 +52,8 @@ struct WalkArgs {
     #[arg(long)]
     step: Option<f64>,
     /// Sample budget: at most this many realizations are computed per walk; the output says when it is reached.
-    #[arg(long, default_value_t = caymos::tolerance::DEFAULT_MAX_SAMPLES as u64, value_parser = clap::value_parser!(u64).range(1..))]
-    max_samples: u64,
+    #[arg(long, default_value_t = caymos::tolerance::DEFAULT_MAX_SAMPLES, value_parser = at_least_one)]
+    max_samples: usize,
 }
 
 #[derive(Subcommand, Debug)]
@@ -160,8 +160,8 @@ enum Command {
         #[arg(long, value_enum, default_value = "text")]
         format: Format,
         /// Timed repetitions after a warm-up (the median is reported); at least 1.
-        #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u64).range(1..))]
-        repeat: u64,
+        #[arg(long, default_value_t = 5, value_parser = at_least_one)]
+        repeat: usize,
         /// Also the lazy walk on generated chains (10…1000 steps) and Strandbeests (1…12 legs).
         #[arg(long)]
         scaling: bool,
@@ -312,7 +312,6 @@ fn run(command: Command) -> Result<u8, Failure> {
             Ok(0)
         }
         Command::Bench { scenes, format, repeat, scaling } => {
-            let repeat = repeat as usize;
             let named = !scenes.is_empty();
             let mut inputs: Vec<caymos::scene::Scene> = Vec::new();
             if named {
@@ -473,7 +472,16 @@ fn walk_options(args: &WalkArgs, a: &Analysis) -> Result<commands::Walk, Failure
         Some(s) if s.is_finite() && s > 0.0 => s,
         Some(s) => return Err(arg_error(format!("--step {s}: give a positive length in scene units"))),
     };
-    Ok(commands::Walk { step, max_samples: usize::try_from(args.max_samples).unwrap_or(usize::MAX) })
+    Ok(commands::Walk { step, max_samples: args.max_samples })
+}
+
+/// A count of at least 1 (`--repeat`, `--max-samples`).
+fn at_least_one(text: &str) -> Result<usize, String> {
+    match text.trim().parse::<usize>() {
+        Ok(n) if n >= 1 => Ok(n),
+        Ok(_) => Err("give at least 1".into()),
+        Err(_) => Err("give a whole number, at least 1".into()),
+    }
 }
 
 /// `A,B` → the two joints' indices.
