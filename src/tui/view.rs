@@ -101,13 +101,22 @@ fn draw_empty(frame: &mut Frame, a: &Analysis, why: &str, area: Rect, theme: The
         Line::raw(""),
         Line::styled("bar lengths (stated / drawn)", theme.dim()),
     ];
-    for (bar, sb) in l.bars.iter().zip(&a.scene.bars) {
+    // As many bars as fit under the (wrapped) explanation; the rest counted.
+    let inner = usize::from(right.width.saturating_sub(2)).max(1);
+    let why_rows = why.chars().count().div_ceil(inner) + 1;
+    let room = usize::from(right.height.saturating_sub(2)).saturating_sub(4 + why_rows);
+    let n = l.bars.len();
+    let shown = if n <= room { n } else { room.saturating_sub(1) };
+    for (bar, sb) in l.bars.iter().zip(&a.scene.bars).take(shown) {
         let drawn = bar.length - bar.sketch_error;
         let text = match sb.length {
             Some(stated) => format!("{}  {} / {}", l.pair_name(bar.joints), fmt_num(stated), fmt_num(drawn)),
             None => format!("{}  {} (drawn)", l.pair_name(bar.joints), fmt_num(drawn)),
         };
         lines.push(Line::raw(text));
+    }
+    if shown < n {
+        lines.push(Line::styled(format!("… and {} more bars (caymos report lists them)", n - shown), theme.dim()));
     }
     let p = Paragraph::new(lines)
         .wrap(Wrap { trim: true })
@@ -486,13 +495,15 @@ fn draw_status(frame: &mut Frame, app: &App, area: Rect, theme: Theme) {
     frame.render_widget(Paragraph::new(line), area);
 }
 
-fn draw_keys(frame: &mut Frame, _app: &App, area: Rect, theme: Theme) {
+fn draw_keys(frame: &mut Frame, app: &App, area: Rect, theme: Theme) {
     let mut spans = Vec::new();
     let mut used = 0usize;
     // Help and quit first, so they show however narrow the terminal.
     let first =
         |b: &&super::keymap::Binding| !matches!(b.action, super::keymap::Action::Help | super::keymap::Action::Quit);
-    let mut bar: Vec<&super::keymap::Binding> = BINDINGS.iter().filter(|b| !b.bar.is_empty()).collect();
+    // Without a scene to explore only help and quit do anything.
+    let useful = |b: &&super::keymap::Binding| !first(b) || app.model().is_some();
+    let mut bar: Vec<&super::keymap::Binding> = BINDINGS.iter().filter(|b| !b.bar.is_empty()).filter(useful).collect();
     bar.sort_by_key(first);
     for b in bar {
         let short = b.bar;
