@@ -166,19 +166,21 @@ pub fn lazy_note(s: &Solved) -> Option<String> {
 /// In a lazy analysis, walk components until at least `want` are known:
 /// after the drawn one, those through the realizations at the drawn λ, taken
 /// in type order (a depth-first search over the steps that prunes a prefix
-/// as soon as it cannot close). At most [`LAZY_SEED_PROBES`] prefixes are
-/// tried. Returns the number of components known.
+/// as soon as it cannot close). At most [`tolerance::LAZY_SEED_PROBES`]
+/// prefixes are tried and [`tolerance::LAZY_MAX_NEW_COMPONENTS`] components
+/// walked per call. Returns the number of components known.
 pub fn walk_components(s: &mut Solved, want: usize) -> usize {
     if !s.lazy || s.components.list.len() >= want {
         return s.components.list.len();
     }
+    let want = want.min(s.components.list.len() + tolerance::LAZY_MAX_NEW_COMPONENTS);
     let lambda = s.drawn.lambda;
     let n = s.construction.steps.len();
     let mut probes = 0usize;
     // Depth-first over prefixes, `false` before `true` (the order types sort in).
     let mut stack: Vec<Vec<bool>> = vec![Vec::new()];
     while let Some(bits) = stack.pop() {
-        if s.components.list.len() >= want || probes >= LAZY_SEED_PROBES {
+        if s.components.list.len() >= want || probes >= tolerance::LAZY_SEED_PROBES {
             break;
         }
         probes += 1;
@@ -199,16 +201,14 @@ pub fn walk_components(s: &mut Solved, want: usize) -> usize {
     s.components.list.len()
 }
 
-/// Prefixes [`walk_components`] may try before it gives up looking for more components.
-pub const LAZY_SEED_PROBES: usize = 1 << 16;
-
 /// "no component k: …", saying what is known (all components, or what a lazy analysis walked).
 pub fn missing_component(s: &Solved, k: usize) -> String {
     let n = s.components.list.len();
     if s.lazy {
         format!(
-            "no component {k}: {n} component{} walked lazily (the drawn realization's, then those through realizations at the drawn λ = {}; no more found there); `--all` analyses every type",
+            "no component {k}: {n} component{} walked lazily (the drawn realization's, then at most {} more per command through realizations at the drawn λ = {}, in type order); `--all` analyses every type",
             if n == 1 { "" } else { "s" },
+            tolerance::LAZY_MAX_NEW_COMPONENTS,
             fmt_num(s.drawn.lambda)
         )
     } else {

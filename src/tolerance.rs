@@ -90,3 +90,10 @@ pub const STEPPER_MAX_JUMPS_PER_SEGMENT: usize = 32;
 /// coordinates cannot be told apart by the drawing: the same point, however
 /// small the scene's scale (a resolution limit of f64, not a tolerance).
 pub const DRAWN_RESOLUTION_ULPS: f64 = 8.0;
+
+/// A lazy analysis walks further components on demand (`--component K`,
+/// `closest`, the UI's `n`) through the realizations at the drawn λ: at most
+/// this many prefixes of types are tried, and at most
+/// [`LAZY_MAX_NEW_COMPONENTS`] components walked, per request.
+pub const LAZY_SEED_PROBES: usize = 1 << 16;
+pub const LAZY_MAX_NEW_COMPONENTS: usize = 256;
