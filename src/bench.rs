@@ -37,10 +37,14 @@ pub struct MethodRow {
 #[derive(Debug, Clone, Serialize)]
 pub struct StepRow {
     pub scene: String,
-    /// Step bound as a fraction of the scene scale.
+    /// Step bound as a fraction of the drawing's extent (bounding-box diagonal).
     pub step: f64,
     pub median_us: f64,
     pub samples: usize,
+    /// The walk stopped at the sample budget ([`crate::tolerance::DEFAULT_MAX_SAMPLES`]).
+    pub truncated: bool,
+    /// Jumps met (degenerate passes, see [`crate::motion::Sample::jump`]).
+    pub jumps: usize,
     /// Largest chord error relative to the scale.
     pub max_chord_error: f64,
     /// Largest bar-length residual relative to the scale.
@@ -66,12 +70,20 @@ pub struct ScalingRow {
     pub max_endpoint_error: Option<f64>,
 }
 
+/// A scene that was not benchmarked, and why.
+#[derive(Debug, Clone, Serialize)]
+pub struct Skipped {
+    pub scene: String,
+    pub reason: String,
+}
+
 #[derive(Debug, Clone, Serialize)]
 pub struct BenchReport {
     pub repeat: usize,
     pub methods: Vec<MethodRow>,
     pub stepping: Vec<StepRow>,
     pub scaling: Vec<ScalingRow>,
+    pub skipped: Vec<Skipped>,
 }
 
 /// The generated families of the scaling curve: chains of four-cycles and
@@ -290,33 +302,37 @@ pub fn bench_scene(a: &Analysis, s: &Solved, repeat: usize) -> (Vec<MethodRow>, 
         }
     }
     let mut steps = Vec::new();
-    let k = s.drawn_component.unwrap_or(0);
-    if let Some(comp) = s.components.list.get(k) {
+    let extent = crate::commands::drawing_extent(a);
+    if let Some(comp) = s.drawn_component.and_then(|k| s.components.list.get(k)) {
         let segs = component_segments(&s.space, comp);
         for frac in [0.1, 0.03, 0.01, 0.003] {
-            let bound = frac * scale;
-            let (t, samples) =
-                median_us(repeat, || Stepper::new(con, &a.linkage, segs.clone(), bound).collect::<Vec<_>>());
-            let mut chord: f64 = 0.0;
-            let mut residual: f64 = 0.0;
-            for w in samples.windows(2) {
-                residual = residual.max(bar_residual(&a.linkage, &w[1].positions));
-                if w[0].segment != w[1].segment {
-                    continue;
-                }
-                let mid = (w[0].lambda + w[1].lambda) / 2.0;
-                let seg = &segs[w[1].segment];
-                if let Some(truth) = realization_at(con, &a.linkage, seg, mid) {
-                    for ((p, q), t) in w[0].positions.iter().zip(&w[1].positions).zip(&truth) {
-                        chord = chord.max(((p[0] + q[0]) / 2.0 - t[0]).hypot((p[1] + q[1]) / 2.0 - t[1]));
+            let bound = frac * extent;
+            let walk = || Stepper::new(con, &a.linkage, segs.clone(), bound);
+            let (t, _) = median_us(repeat, || walk().count());
+            // Errors in a second walk, two samples at a time (memory stays small).
+            let mut stepper = walk();
+            let (mut chord, mut residual): (f64, f64) = (0.0, 0.0);
+            let mut prev: Option<crate::motion::Sample> = None;
+            for cur in stepper.by_ref() {
+                residual = residual.max(bar_residual(&a.linkage, &cur.positions));
+                if let Some(p) = prev.as_ref().filter(|p| p.segment == cur.segment && !cur.jump) {
+                    let mid = (p.lambda + cur.lambda) / 2.0;
+                    if let Some(truth) = realization_at(con, &a.linkage, &segs[cur.segment], mid) {
+                        for ((x, y), t) in p.positions.iter().zip(&cur.positions).zip(&truth) {
+                            chord = chord.max(((x[0] + y[0]) / 2.0 - t[0]).hypot((x[1] + y[1]) / 2.0 - t[1]));
+                        }
                     }
                 }
+                prev = Some(cur);
             }
+            let summary = stepper.summary();
             steps.push(StepRow {
                 scene: name.clone(),
                 step: frac,
                 median_us: t,
-                samples: samples.len(),
+                samples: summary.samples,
+                truncated: summary.truncated,
+                jumps: summary.jumps.len(),
                 max_chord_error: chord / scale,
                 max_bar_residual: residual / scale,
             });
@@ -328,6 +344,13 @@ pub fn bench_scene(a: &Analysis, s: &Solved, repeat: usize) -> (Vec<MethodRow>, 
 impl BenchReport {
     pub fn to_text(&self) -> String {
         let mut o = String::new();
+        for sk in &self.skipped {
+            o.push_str(&format!("Skipped {}: {}\n", sk.scene, sk.reason));
+        }
+        if self.methods.is_empty() && self.scaling.is_empty() {
+            o.push_str("Nothing to benchmark.\n");
+            return o;
+        }
         o.push_str(&format!(
             "Cayley space: median of {} runs; errors against the double-double exact run, relative to scene scale\n",
             self.repeat
@@ -349,8 +372,10 @@ impl BenchReport {
         write_table(&mut o, &["scene", "method", "time µs", "max error", "intervals", "missed / spurious"], &rows);
         o.push('\n');
         o.push_str(&self.chart());
-        o.push_str("\nMotion stepper on the drawn realization's component (step as a fraction of the scale)\n");
-        let rows: Vec<[String; 6]> = self
+        o.push_str(
+            "\nMotion stepper on the drawn realization's component (step as a fraction of the drawing's diagonal)\n",
+        );
+        let rows: Vec<[String; 7]> = self
             .stepping
             .iter()
             .map(|r| {
@@ -358,13 +383,14 @@ impl BenchReport {
                     r.scene.clone(),
                     fmt_num(r.step),
                     fmt_num(r.median_us),
-                    r.samples.to_string(),
+                    format!("{}{}", r.samples, if r.truncated { " (budget)" } else { "" }),
+                    r.jumps.to_string(),
                     fmt_sci(r.max_chord_error),
                     fmt_sci(r.max_bar_residual),
                 ]
             })
             .collect();
-        write_table(&mut o, &["scene", "step", "time µs", "samples", "chord error", "bar residual"], &rows);
+        write_table(&mut o, &["scene", "step", "time µs", "samples", "jumps", "chord error", "bar residual"], &rows);
         if !self.scaling.is_empty() {
             o.push_str("\nLazy walk of the drawn component on generated families (median times)\n");
             let rows: Vec<[String; 8]> = self

@@ -60,7 +60,8 @@ pub fn load(name: &str) -> Result<Scene, SceneError> {
 
 /// The scene a command-line argument names: `None` is the default scene; an
 /// existing path is loaded from disk; otherwise the argument must be the name
-/// of a bundled scene (optionally written `bundled:NAME`).
+/// of a bundled scene (optionally written `bundled:NAME`) or of a hard case
+/// (`hard:sliver`, …, see [`crate::generate::hard_cases`]).
 pub fn resolve(arg: Option<&str>) -> Result<Scene, SceneError> {
     let Some(arg) = arg else {
         return load(DEFAULT_SCENE);
@@ -68,6 +69,9 @@ pub fn resolve(arg: Option<&str>) -> Result<Scene, SceneError> {
     let path = Path::new(arg);
     if path.exists() {
         return load_scene(path);
+    }
+    if let Some(hard) = crate::generate::hard_cases().into_iter().find(|h| h.name == arg) {
+        return Ok(hard);
     }
     let name = arg.strip_prefix("bundled:").unwrap_or(arg);
     if find(name).is_some() {
@@ -81,8 +85,9 @@ pub fn resolve(arg: Option<&str>) -> Result<Scene, SceneError> {
     })
 }
 
-/// "bundled scenes: jansen, fourbar-crank-rocker, ..." for error messages.
+/// "bundled scenes: jansen, …; hard cases: hard:sliver, …" for error messages.
 fn bundled_list() -> String {
     let names: Vec<&str> = BUNDLED.iter().map(|bundled| bundled.name).collect();
-    format!("bundled scenes: {}", names.join(", "))
+    let hard: Vec<String> = crate::generate::hard_cases().into_iter().map(|h| h.name).collect();
+    format!("bundled scenes: {}; hard cases: {}", names.join(", "), hard.join(", "))
 }

@@ -1,6 +1,7 @@
 //! What the motion commands compute, as plain data (JSON-ready) and text:
 //! `path`, `trace`, `closest`, `svg`. The CLI only parses arguments and
-//! prints; the terminal UI calls the same functions.
+//! prints; the terminal UI calls the same functions. Every walk has a sample
+//! budget and says what it met (budget, jumps, unresolved stretches).
 
 use std::fmt::Write as _;
 
@@ -8,11 +9,215 @@ use serde::Serialize;
 
 use crate::analysis::{Analysis, Solved};
 use crate::distance::{Certificate, ClosestOptions, ClosestPair, Outcome, closest_pair};
-use crate::motion::{Realization, Segment, Stepper, arcs, component_segments, explain_missing, locate, measure};
+use crate::motion::{
+    Realization, Segment, Stepper, WalkSummary, arcs, bounding_diagonal, component_segments, explain_missing, locate,
+    measure,
+};
+use crate::report::fmt_num;
+use crate::tolerance;
 
-/// The default geometric step: 1% of the scene scale.
+/// How finely and how far a command walks: the geometric step (largest joint
+/// move between samples, scene units) and the sample budget.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Walk {
+    pub step: f64,
+    pub max_samples: usize,
+}
+
+/// The drawing's extent: the bounding-box diagonal of the drawn realization
+/// (the drawing itself when it has none). Falls back to the scene scale for a
+/// drawing of one point.
+pub fn drawing_extent(a: &Analysis) -> f64 {
+    let drawn = a.outcome.as_ref().ok().and_then(|s| s.drawn_positions.as_deref()).unwrap_or(&a.linkage.drawn);
+    let d = bounding_diagonal(drawn);
+    if d > 0.0 && d.is_finite() { d } else { a.linkage.scale }
+}
+
+/// The default geometric step: [`tolerance::DEFAULT_STEP_FRACTION`] of the drawing's extent.
 pub fn default_step(a: &Analysis) -> f64 {
-    a.linkage.scale / 100.0
+    tolerance::DEFAULT_STEP_FRACTION * drawing_extent(a)
+}
+
+/// Sentences about a walk that did not simply run from start to end.
+pub fn walk_notes(w: &WalkSummary, max_samples: usize) -> Vec<String> {
+    let mut notes = Vec::new();
+    if w.truncated {
+        notes.push(format!(
+            "stopped at the sample budget ({max_samples} samples) before the end; --max-samples raises it, a larger --step needs fewer"
+        ));
+    }
+    if let Some(l) = w.stopped_at {
+        notes.push(format!("no realization could be computed at λ = {}: the walk ends there", fmt_num(l)));
+    }
+    if !w.jumps.is_empty() {
+        // Jumps that print alike (6 digits) are listed once, with their count.
+        let mut places: Vec<(String, usize)> = Vec::new();
+        for &l in &w.jumps {
+            match places.last_mut() {
+                Some((text, n)) if *text == fmt_num(l) => *n += 1,
+                _ => places.push((fmt_num(l), 1)),
+            }
+        }
+        let shown: Vec<String> =
+            places.iter().take(8).map(|(t, n)| if *n > 1 { format!("{t} ({n} times)") } else { t.clone() }).collect();
+        let more = if places.len() > 8 { format!(", … ({} places)", places.len()) } else { String::new() };
+        notes.push(format!(
+            "{} jump{} (joints move farther than the step between adjacent floats of λ: a degenerate pass; no continuous motion joins the two samples) at λ = {}{more}",
+            w.jumps.len(),
+            if w.jumps.len() == 1 { "" } else { "s" },
+            shown.join(", ")
+        ));
+    }
+    for [from, to] in &w.unresolved {
+        notes.push(format!(
+            "the realization is not resolved in f64 for λ from {} to {} (joints jump at every step there): skipped as one jump",
+            fmt_num(*from),
+            fmt_num(*to)
+        ));
+    }
+    notes
+}
+
+/// Why a solved scene has nothing to walk, in words (`None` when it has a component).
+/// Each step standing on the base allows the base length only in
+/// [|r1 − r2|, r1 + r2]; when two of these ranges miss each other, they are named.
+pub fn no_realization(a: &Analysis, s: &Solved) -> Option<String> {
+    if !s.components.list.is_empty() {
+        return None;
+    }
+    let names = &a.linkage.names;
+    let con = &s.construction;
+    let base = format!("{}–{}", names[con.base[0]], names[con.base[1]]);
+    let describe = |k: usize| {
+        let g = &con.steps[k];
+        let (v, u, w) = (&names[g.vertex], &names[g.u], &names[g.w]);
+        format!("step {} ({v} ◁ ({u}, {w}): |{u}{v}| = {}, |{w}{v}| = {})", k + 1, fmt_num(g.r1), fmt_num(g.r2))
+    };
+    let on_base: Vec<(usize, f64, f64)> = (0..con.steps.len())
+        .filter(|&k| con.on_base(k))
+        .map(|k| (k, (con.steps[k].r1 - con.steps[k].r2).abs(), con.steps[k].r1 + con.steps[k].r2))
+        .collect();
+    let lowest_upper = on_base.iter().min_by(|x, y| x.2.total_cmp(&y.2));
+    let highest_lower = on_base.iter().max_by(|x, y| x.1.total_cmp(&y.1));
+    if let (Some(&(kl, lo, _)), Some(&(ku, _, hi))) = (highest_lower, lowest_upper)
+        && lo > hi
+    {
+        return Some(format!(
+            "no realization: the base {base} would have to be at least {} long for {} but at most {} for {}",
+            fmt_num(lo),
+            describe(kl),
+            fmt_num(hi),
+            describe(ku)
+        ));
+    }
+    // A realization the sweep should have found: the drawn one, or (every
+    // step on the base, their ranges overlapping) any type inside the overlap.
+    let drawn_closes = con.realize(s.drawn.lambda, &s.drawn.ty).is_ok();
+    let all_on_base = on_base.len() == con.steps.len();
+    if drawn_closes || (all_on_base && !on_base.is_empty()) {
+        return Some(format!(
+            "no realization was found, yet {}: the analysis failed numerically (scene scale {}); please report this scene",
+            if drawn_closes {
+                format!(
+                    "the drawn realization (type {} at λ = {}) closes every step",
+                    crate::report::short_type(&s.drawn.ty.to_string()),
+                    fmt_num(s.drawn.lambda)
+                )
+            } else {
+                "every step stands on the base and their ranges overlap".to_string()
+            },
+            fmt_num(a.linkage.scale)
+        ));
+    }
+    if s.lazy {
+        return Some(format!(
+            "no realization found: the lazy analysis walks from the drawn realization, and its type {} has none at λ = {} (`--all` analyses every type)",
+            crate::report::short_type(&s.drawn.ty.to_string()),
+            fmt_num(s.drawn.lambda)
+        ));
+    }
+    let range = match (highest_lower, lowest_upper) {
+        (Some(&(_, lo, _)), Some(&(_, _, hi))) => {
+            format!(" for any base length in [{}, {}], the range the steps on the base allow", fmt_num(lo), fmt_num(hi))
+        }
+        _ => String::new(),
+    };
+    Some(format!("no realization: no orientation type closes every construction step{range}"))
+}
+
+/// In a lazy analysis, which components are known and how they were found.
+pub fn lazy_note(s: &Solved) -> Option<String> {
+    if !s.lazy {
+        return None;
+    }
+    let n = s.components.list.len();
+    Some(format!(
+        "lazy analysis ({} steps): {n} component{} walked: the drawn realization's{}; `--component K` walks more, `--all` analyses every type (component numbers then follow `report --all`)",
+        s.dec.steps.len(),
+        if n == 1 { "" } else { "s" },
+        if n > 1 {
+            format!(" and those through realizations at the drawn λ = {}, in type order", fmt_num(s.drawn.lambda))
+        } else {
+            String::new()
+        }
+    ))
+}
+
+/// In a lazy analysis, walk components until at least `want` are known:
+/// after the drawn one, those through the realizations at the drawn λ, taken
+/// in type order (a depth-first search over the steps that prunes a prefix
+/// as soon as it cannot close). At most [`tolerance::LAZY_SEED_PROBES`]
+/// prefixes are tried and [`tolerance::LAZY_MAX_NEW_COMPONENTS`] components
+/// walked per call. Returns the number of components known.
+pub fn walk_components(s: &mut Solved, want: usize) -> usize {
+    if !s.lazy || s.components.list.len() >= want {
+        return s.components.list.len();
+    }
+    let want = want.min(s.components.list.len() + tolerance::LAZY_MAX_NEW_COMPONENTS);
+    let lambda = s.drawn.lambda;
+    let n = s.construction.steps.len();
+    let mut probes = 0usize;
+    // Depth-first over prefixes, `false` before `true` (the order types sort in).
+    let mut stack: Vec<Vec<bool>> = vec![Vec::new()];
+    while let Some(bits) = stack.pop() {
+        if s.components.list.len() >= want || probes >= tolerance::LAZY_SEED_PROBES {
+            break;
+        }
+        probes += 1;
+        if !bits.is_empty() && s.construction.realize_prefix(lambda, &bits, bits.len()).is_err() {
+            continue;
+        }
+        if bits.len() == n {
+            let r = Realization { ty: crate::realize::RealizationType(bits), lambda };
+            s.include(&r);
+            continue;
+        }
+        for b in [true, false] {
+            let mut next = bits.clone();
+            next.push(b);
+            stack.push(next);
+        }
+    }
+    s.components.list.len()
+}
+
+/// "no component k: …", saying what is known (all components, or what a lazy analysis walked).
+pub fn missing_component(s: &Solved, k: usize) -> String {
+    let n = s.components.list.len();
+    if s.lazy {
+        format!(
+            "no component {k}: {n} component{} walked lazily (the drawn realization's, then at most {} more per command through realizations at the drawn λ = {}, in type order); `--all` analyses every type",
+            if n == 1 { "" } else { "s" },
+            tolerance::LAZY_MAX_NEW_COMPONENTS,
+            fmt_num(s.drawn.lambda)
+        )
+    } else {
+        format!(
+            "no component {k}: this scene has {n} component{} (0..{})",
+            if n == 1 { "" } else { "s" },
+            n.saturating_sub(1)
+        )
+    }
 }
 
 /// In a lazy analysis, walk the components through the realizations named
@@ -53,9 +258,18 @@ pub struct PathOut {
     pub intervals: Vec<SegmentOut>,
     pub n_intervals: usize,
     pub lambda_range: [f64; 2],
+    /// Lengths of the walked part (all of it when `complete`); jumps add nothing.
     pub cayley_length: f64,
     pub max_joint_travel: f64,
     pub shorter: bool,
+    /// Realizations computed to measure this path.
+    pub samples: usize,
+    /// Whether the walk reached the end within the sample budget.
+    pub complete: bool,
+    /// λ of the jumps met (degenerate passes; see `notes`).
+    pub jumps: Vec<f64>,
+    /// What the walk met, in words (budget, jumps, unresolved stretches).
+    pub notes: Vec<String>,
 }
 
 #[derive(Debug, Clone, Serialize)]
@@ -200,19 +414,19 @@ fn closest_out(s: &Solved, c: &ClosestPair, (ca, cb): (usize, usize)) -> Closest
 }
 
 /// Closest pair between components `i` and `j` (indices into the component
-/// list), certified to the default relative gap.
+/// list), certified to the default relative gap. In a lazy analysis the
+/// components are walked first if needed.
 pub fn closest(a: &Analysis, s: &Solved, i: usize, j: usize) -> Result<ClosestOut, String> {
     closest_with(a, s, i, j, ClosestOptions::default())
 }
 
 /// [`closest`] with the gap and work budget chosen.
-pub fn closest_with(_a: &Analysis, s: &Solved, i: usize, j: usize, opts: ClosestOptions) -> Result<ClosestOut, String> {
-    let n = s.components.list.len();
-    if i >= n || j >= n {
-        return Err(format!(
-            "component index out of range: this scene has {n} components (0..{})",
-            n.saturating_sub(1)
-        ));
+pub fn closest_with(a: &Analysis, s: &Solved, i: usize, j: usize, opts: ClosestOptions) -> Result<ClosestOut, String> {
+    if let Some(why) = no_realization(a, s) {
+        return Err(why);
+    }
+    if let Some(&k) = [i, j].iter().find(|&&k| k >= s.components.list.len()) {
+        return Err(missing_component(s, k));
     }
     if i == j {
         return Err("the two components must differ (distance within one component is 0)".into());
@@ -227,7 +441,11 @@ pub fn closest_with(_a: &Analysis, s: &Solved, i: usize, j: usize, opts: Closest
 }
 
 /// Both paths between two realizations, or the closest pair when none exists.
-pub fn path(a: &Analysis, s: &Solved, from: &str, to: &str, step: f64) -> Result<PathReport, String> {
+/// Each path is walked within `walk`'s sample budget and says if it was cut.
+pub fn path(a: &Analysis, s: &Solved, from: &str, to: &str, walk: Walk) -> Result<PathReport, String> {
+    if let Some(why) = no_realization(a, s) {
+        return Err(why);
+    }
     let (ra, ia) = resolve_realization(a, s, from)?;
     let (rb, ib) = resolve_realization(a, s, to)?;
     let (ca, cb) = (s.components.of_interval[ia], s.components.of_interval[ib]);
@@ -253,7 +471,7 @@ pub fn path(a: &Analysis, s: &Solved, from: &str, to: &str, step: f64) -> Result
         .zip(["along", "against"])
         .filter(|(segs, _)| !segs.is_empty())
         .map(|(segs, direction)| {
-            let m = measure(&s.construction, &a.linkage, segs.clone(), step, &s.complexity.ccv);
+            let m = measure(&s.construction, &a.linkage, segs.clone(), walk.step, &s.complexity.ccv, walk.max_samples);
             let lo = segs.iter().map(|x| x.from.min(x.to)).fold(f64::INFINITY, f64::min);
             let hi = segs.iter().map(|x| x.from.max(x.to)).fold(f64::NEG_INFINITY, f64::max);
             PathOut {
@@ -264,12 +482,18 @@ pub fn path(a: &Analysis, s: &Solved, from: &str, to: &str, step: f64) -> Result
                 cayley_length: m.cayley_length,
                 max_joint_travel: m.max_joint_travel,
                 shorter: false,
+                samples: m.walk.samples,
+                complete: m.walk.complete(),
+                jumps: m.walk.jumps.clone(),
+                notes: walk_notes(&m.walk, walk.max_samples),
             }
         })
         .collect();
-    let shorter = (0..paths.len()).min_by(|&i, &j| paths[i].cayley_length.total_cmp(&paths[j].cayley_length));
-    if let Some(k) = shorter.filter(|_| paths.len() > 1) {
-        paths[k].shorter = true;
+    // Which is shorter is only known when both were walked to the end (an
+    // open component has one path only).
+    if paths.len() == 2 && paths.iter().all(|p| p.complete) {
+        let shorter = if paths[0].cayley_length <= paths[1].cayley_length { 0 } else { 1 };
+        paths[shorter].shorter = true;
     }
     Ok(PathReport {
         from: from_out,
@@ -284,8 +508,7 @@ pub fn path(a: &Analysis, s: &Solved, from: &str, to: &str, step: f64) -> Result
 impl PathReport {
     pub fn to_text(&self) -> String {
         let mut o = String::new();
-        let r =
-            |x: &RealizationOut| format!("{}@{} (component {})", x.ty, crate::report::fmt_num(x.lambda), x.component);
+        let r = |x: &RealizationOut| format!("{}@{} (component {})", x.ty, fmt_num(x.lambda), x.component);
         let _ = writeln!(o, "From {}  to {}", r(&self.from), r(&self.to));
         if let Some(c) = &self.closest_pair {
             let _ = writeln!(o, "No path: the realizations lie in different components.");
@@ -302,31 +525,37 @@ impl PathReport {
         for p in &self.paths {
             let _ = writeln!(
                 o,
-                "\nPath {} the component{}: {} intervals, Cayley length {}, largest joint travel {}",
+                "\nPath {} the component{}: {} intervals, Cayley length {}{}, largest joint travel {} ({} samples)",
                 p.direction,
                 if p.shorter { " (shorter)" } else { "" },
                 p.n_intervals,
-                crate::report::fmt_num(p.cayley_length),
-                crate::report::fmt_num(p.max_joint_travel)
+                if p.complete { "" } else { "at least " },
+                fmt_num(p.cayley_length),
+                fmt_num(p.max_joint_travel),
+                p.samples
             );
-            let rows: Vec<[String; 3]> = p
-                .intervals
-                .iter()
-                .map(|x| [x.ty.clone(), crate::report::fmt_num(x.from), crate::report::fmt_num(x.to)])
-                .collect();
+            for note in &p.notes {
+                let _ = writeln!(o, "  note: {note}");
+            }
+            let rows: Vec<[String; 3]> =
+                p.intervals.iter().map(|x| [x.ty.clone(), fmt_num(x.from), fmt_num(x.to)]).collect();
             crate::report::write_table(&mut o, &["type", "from λ", "to λ"], &rows);
         }
         o
     }
 }
 
-/// Segments for `trace`: a whole component, or the shorter (or chosen) arc between two realizations.
+/// Segments for `trace`: a whole component (default: the drawn
+/// realization's), or the shorter (or chosen) arc between two realizations.
 pub fn trace_segments(
     a: &Analysis,
     s: &Solved,
     component: Option<usize>,
     between: Option<(&str, &str, Option<usize>)>,
 ) -> Result<Vec<Segment>, String> {
+    if let Some(why) = no_realization(a, s) {
+        return Err(why);
+    }
     if let Some((from, to, arc)) = between {
         let (ra, ia) = resolve_realization(a, s, from)?;
         let (rb, ib) = resolve_realization(a, s, to)?;
@@ -358,14 +587,18 @@ pub fn trace_segments(
         };
         return Ok(both[pick].clone());
     }
-    let k = component.or(s.drawn_component).unwrap_or(0);
-    let comp = s.components.list.get(k).ok_or_else(|| {
-        format!(
-            "no component {k}: this scene has {} (0..{})",
-            s.components.list.len(),
-            s.components.list.len().saturating_sub(1)
-        )
-    })?;
+    let k = match (component, s.drawn_component) {
+        (Some(k), _) | (None, Some(k)) => k,
+        (None, None) => {
+            return Err(format!(
+                "the drawn realization ({}@{}) lies in no component found (see the warnings of `caymos report`); choose one with --component 0..{}",
+                crate::report::short_type(&s.drawn.ty.to_string()),
+                fmt_num(s.drawn.lambda),
+                s.components.list.len() - 1
+            ));
+        }
+    };
+    let comp = s.components.list.get(k).ok_or_else(|| missing_component(s, k))?;
     Ok(component_segments(&s.space, comp))
 }
 
@@ -383,91 +616,151 @@ pub fn parse_joints(a: &Analysis, list: Option<&str>) -> Result<Vec<usize>, Stri
     }
 }
 
-/// CSV of the walk: `index,lambda,type,A.x,A.y,...`; with `cayley`, the
-/// complete Cayley distance vector follows (columns named `A-B`): the Cayley
-/// curve of the component or path.
+/// CSV of the walk, written row by row to `out` (memory stays small however
+/// long the walk): `index,lambda,type,jump,A.x,A.y,...`; `jump` is 1 on a row
+/// that no continuous motion joins to the row before (see
+/// [`crate::motion::Sample::jump`]). With `cayley`, the complete Cayley
+/// distance vector follows (columns named `A-B`): the Cayley curve of the
+/// component or path. Numbers are written in full precision.
 pub fn trace_csv(
     a: &Analysis,
     s: &Solved,
     segments: Vec<Segment>,
     joints: &[usize],
-    step: f64,
+    walk: Walk,
     cayley: bool,
-) -> String {
-    let mut o = String::from("index,lambda,type");
+    out: &mut dyn std::io::Write,
+) -> std::io::Result<WalkSummary> {
+    let mut row = String::from("index,lambda,type,jump");
     for &j in joints {
-        let _ = write!(o, ",{0}.x,{0}.y", a.linkage.names[j]);
+        let _ = write!(row, ",{0}.x,{0}.y", a.linkage.names[j]);
     }
     if cayley {
         for &[p, q] in &s.complexity.ccv {
-            let _ = write!(o, ",{}-{}", a.linkage.names[p], a.linkage.names[q]);
+            let _ = write!(row, ",{}-{}", a.linkage.names[p], a.linkage.names[q]);
         }
     }
-    o.push('\n');
-    for (i, sample) in Stepper::new(&s.construction, &a.linkage, segments, step).enumerate() {
-        let _ = write!(o, "{i},{},{}", sample.lambda, sample.ty);
+    row.push('\n');
+    out.write_all(row.as_bytes())?;
+    let mut stepper = Stepper::new(&s.construction, &a.linkage, segments, walk.step).with_budget(walk.max_samples);
+    for (i, sample) in stepper.by_ref().enumerate() {
+        row.clear();
+        let _ = write!(row, "{i},{},{},{}", sample.lambda, sample.ty, u8::from(sample.jump));
         for &j in joints {
             let p = sample.positions[j];
-            let _ = write!(o, ",{},{}", p[0], p[1]);
+            let _ = write!(row, ",{},{}", p[0], p[1]);
         }
         if cayley {
             for d in crate::distance::cayley_vector(&sample.positions, &s.complexity.ccv) {
-                let _ = write!(o, ",{d}");
+                let _ = write!(row, ",{d}");
             }
         }
-        o.push('\n');
+        row.push('\n');
+        out.write_all(row.as_bytes())?;
     }
-    o
+    Ok(stepper.summary().clone())
 }
 
-/// An SVG of the drawn realization with the traces of `joints` over the segments.
-pub fn svg(a: &Analysis, s: &Solved, segments: Vec<Segment>, joints: &[usize], step: f64) -> String {
-    let traces: Vec<Vec<[f64; 2]>> = {
-        let mut t = vec![Vec::new(); joints.len()];
-        for sample in Stepper::new(&s.construction, &a.linkage, segments, step) {
-            for (k, &j) in joints.iter().enumerate() {
-                t[k].push(sample.positions[j]);
+/// An SVG and what its walk met.
+#[derive(Debug, Clone)]
+pub struct SvgOut {
+    pub text: String,
+    pub walk: WalkSummary,
+    /// The traces reached [`tolerance::SVG_MAX_POINTS`] points and end there.
+    pub points_cut: bool,
+}
+
+/// An SVG of the drawn realization with the traces of `joints` over the
+/// segments. A trace breaks at every jump. Coordinates are mapped to a
+/// 1000-unit view box, so drawings at any scale keep their digits.
+pub fn svg(a: &Analysis, s: &Solved, segments: Vec<Segment>, joints: &[usize], walk: Walk) -> SvgOut {
+    // Per joint, runs of points between jumps; a point closer than `gap` to
+    // the last one kept is not drawn (it would not show), unless it ends a run.
+    let gap = tolerance::SVG_POINT_GAP_FRACTION * drawing_extent(a);
+    let mut runs: Vec<Vec<Vec<[f64; 2]>>> = vec![vec![Vec::new()]; joints.len()];
+    let mut pending: Vec<Option<[f64; 2]>> = vec![None; joints.len()];
+    let mut stepper = Stepper::new(&s.construction, &a.linkage, segments, walk.step).with_budget(walk.max_samples);
+    let (mut kept, mut points_cut) = (0usize, false);
+    for sample in stepper.by_ref() {
+        if kept + joints.len() > tolerance::SVG_MAX_POINTS {
+            points_cut = true;
+            break;
+        }
+        for (k, &j) in joints.iter().enumerate() {
+            let Some(run) = runs[k].last_mut() else { continue };
+            if sample.jump {
+                run.extend(pending[k].take());
+                runs[k].push(Vec::new());
+            }
+            let Some(run) = runs[k].last_mut() else { continue };
+            let p = sample.positions[j];
+            match run.last() {
+                Some(q) if (p[0] - q[0]).hypot(p[1] - q[1]) < gap => pending[k] = Some(p),
+                _ => {
+                    run.push(p);
+                    kept += 1;
+                    pending[k] = None;
+                }
             }
         }
-        t
-    };
+    }
+    for (run, p) in runs.iter_mut().zip(pending) {
+        if let Some(run) = run.last_mut() {
+            run.extend(p);
+        }
+    }
     let pose = s.drawn_positions.clone().unwrap_or_else(|| a.linkage.drawn.clone());
-    let all = pose.iter().chain(traces.iter().flatten());
     let (mut x0, mut y0, mut x1, mut y1) = (f64::INFINITY, f64::INFINITY, f64::NEG_INFINITY, f64::NEG_INFINITY);
-    for p in all {
+    for p in pose.iter().chain(runs.iter().flatten().flatten()) {
         x0 = x0.min(p[0]);
         y0 = y0.min(p[1]);
         x1 = x1.max(p[0]);
         y1 = y1.max(p[1]);
     }
-    let pad = 0.06 * (x1 - x0).max(y1 - y0).max(1e-9);
-    let (w, h) = (x1 - x0 + 2.0 * pad, y1 - y0 + 2.0 * pad);
+    // Scene units → view units: the larger side spans 1000 (halved to keep huge drawings finite).
+    let span = ((x1 / 2.0 - x0 / 2.0).max(y1 / 2.0 - y0 / 2.0) * 2.0).min(f64::MAX);
+    let unit = if span > 0.0 && span.is_finite() { 1000.0 / span } else { 1.0 };
+    let pad = 60.0;
+    let (w, h) = ((x1 - x0) * unit + 2.0 * pad, (y1 - y0) * unit + 2.0 * pad);
+    let (w, h) =
+        (if w.is_finite() { w } else { 1000.0 + 2.0 * pad }, if h.is_finite() { h } else { 1000.0 + 2.0 * pad });
     let stroke = 0.004 * w.max(h);
-    // y up in the scene, down in SVG: flip through the view box.
-    let (sx, sy) = (|x: f64| x - x0 + pad, |y: f64| y1 + pad - y);
+    // y up in the scene, down in SVG.
+    let (sx, sy) = (|x: f64| (x - x0) * unit + pad, |y: f64| (y1 - y) * unit + pad);
     let mut o = String::new();
     let _ = writeln!(
         o,
-        r#"<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 {w:.6} {h:.6}" width="800" height="{:.0}">"#,
+        r#"<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 {w:.3} {h:.3}" width="800" height="{:.0}">"#,
         800.0 * h / w
     );
     let _ = writeln!(o, "<title>{} — caymos</title>", xml_escape(&a.scene.name));
+    let _ = writeln!(o, "<!-- 1 view unit = {} scene units -->", fmt_num(1.0 / unit));
+    let w_sum = stepper.summary().clone();
+    let mut notes = walk_notes(&w_sum, walk.max_samples);
+    if points_cut {
+        notes.insert(0, svg_cut_note(joints.len()));
+    }
+    for note in notes {
+        let _ = writeln!(o, "<!-- note: {} -->", xml_escape(&note).replace("--", "—"));
+    }
     let palette = ["#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b", "#e377c2", "#17becf"];
-    for (k, t) in traces.iter().enumerate() {
-        let pts: Vec<String> = t.iter().map(|p| format!("{:.6},{:.6}", sx(p[0]), sy(p[1]))).collect();
-        let _ = writeln!(
-            o,
-            r#"<polyline fill="none" stroke="{}" stroke-width="{:.6}" stroke-opacity="0.7" points="{}"/>"#,
-            palette[k % palette.len()],
-            stroke * 0.6,
-            pts.join(" ")
-        );
+    for (k, joint_runs) in runs.iter().enumerate() {
+        for run in joint_runs.iter().filter(|r| !r.is_empty()) {
+            let pts: Vec<String> = run.iter().map(|p| format!("{:.3},{:.3}", sx(p[0]), sy(p[1]))).collect();
+            let _ = writeln!(
+                o,
+                r#"<polyline fill="none" stroke="{}" stroke-width="{:.3}" stroke-opacity="0.7" points="{}"/>"#,
+                palette[k % palette.len()],
+                stroke * 0.6,
+                pts.join(" ")
+            );
+        }
     }
     for bar in &a.linkage.bars {
         let (p, q) = (pose[bar.joints[0]], pose[bar.joints[1]]);
         let _ = writeln!(
             o,
-            r##"<line x1="{:.6}" y1="{:.6}" x2="{:.6}" y2="{:.6}" stroke="#333" stroke-width="{stroke:.6}"/>"##,
+            r##"<line x1="{:.3}" y1="{:.3}" x2="{:.3}" y2="{:.3}" stroke="#333" stroke-width="{stroke:.3}"/>"##,
             sx(p[0]),
             sy(p[1]),
             sx(q[0]),
@@ -475,10 +768,10 @@ pub fn svg(a: &Analysis, s: &Solved, segments: Vec<Segment>, joints: &[usize], s
         );
     }
     for body in &a.linkage.bodies {
-        let pts: Vec<String> = body.iter().map(|&j| format!("{:.6},{:.6}", sx(pose[j][0]), sy(pose[j][1]))).collect();
+        let pts: Vec<String> = body.iter().map(|&j| format!("{:.3},{:.3}", sx(pose[j][0]), sy(pose[j][1]))).collect();
         let _ = writeln!(
             o,
-            r##"<polygon points="{}" fill="#999" fill-opacity="0.3" stroke="#333" stroke-width="{stroke:.6}"/>"##,
+            r##"<polygon points="{}" fill="#999" fill-opacity="0.3" stroke="#333" stroke-width="{stroke:.3}"/>"##,
             pts.join(" ")
         );
     }
@@ -486,7 +779,7 @@ pub fn svg(a: &Analysis, s: &Solved, segments: Vec<Segment>, joints: &[usize], s
         let ground = a.linkage.ground.contains(&j);
         let _ = writeln!(
             o,
-            r##"<circle cx="{:.6}" cy="{:.6}" r="{:.6}" fill="{}"/><text x="{:.6}" y="{:.6}" font-size="{:.6}" font-family="sans-serif">{}</text>"##,
+            r##"<circle cx="{:.3}" cy="{:.3}" r="{:.3}" fill="{}"/><text x="{:.3}" y="{:.3}" font-size="{:.3}" font-family="sans-serif">{}</text>"##,
             sx(p[0]),
             sy(p[1]),
             stroke * 2.0,
@@ -498,7 +791,15 @@ pub fn svg(a: &Analysis, s: &Solved, segments: Vec<Segment>, joints: &[usize], s
         );
     }
     o.push_str("</svg>\n");
-    o
+    SvgOut { text: o, walk: w_sum, points_cut }
+}
+
+/// Said when an SVG's traces end at [`tolerance::SVG_MAX_POINTS`].
+pub fn svg_cut_note(joints: usize) -> String {
+    format!(
+        "the traces end early: an SVG keeps at most {} points ({joints} joints traced; --joints traces fewer, a larger --step needs fewer)",
+        tolerance::SVG_MAX_POINTS
+    )
 }
 
 fn xml_escape(s: &str) -> String {

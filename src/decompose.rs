@@ -66,12 +66,16 @@ enum Merge {
 }
 
 impl ClusterSet {
-    /// One cluster per bar and per body.
+    /// One cluster per bar and per body (a bar that a body already holds,
+    /// agreeing with it, is no cluster of its own: see [`bars_within_bodies`]).
     pub fn initial(linkage: &Linkage) -> ClusterSet {
         let mut set =
             ClusterSet { nodes: Vec::new(), alive: Vec::new(), by_joint: vec![Vec::new(); linkage.n_joints()] };
+        let ignored: Vec<usize> = bars_within_bodies(linkage).iter().filter(|b| b.agrees).map(|b| b.bar).collect();
         for (i, bar) in linkage.bars.iter().enumerate() {
-            set.add(bar.joints.to_vec(), Origin::Bar(i));
+            if !ignored.contains(&i) {
+                set.add(bar.joints.to_vec(), Origin::Bar(i));
+            }
         }
         for (i, body) in linkage.bodies.iter().enumerate() {
             set.add(body.clone(), Origin::Body(i));
@@ -182,14 +186,47 @@ pub struct Rigidity {
     pub redundant: Vec<Constraint>,
 }
 
+/// A bar between two joints of one body.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct BodyBar {
+    pub bar: usize,
+    pub body: usize,
+    /// Its length agrees with the body's drawn shape ([`crate::scene::body_bar_agrees`]).
+    pub agrees: bool,
+}
+
+/// Bars joining two joints of one body. The body holds those joints rigidly
+/// already: a bar that agrees with it adds no constraint, so recognition
+/// ignores it (and the report says so); one that disagrees over-constrains
+/// the linkage, and the rigidity count names that bar as redundant.
+pub fn bars_within_bodies(linkage: &Linkage) -> Vec<BodyBar> {
+    let mut out = Vec::new();
+    for (bar, b) in linkage.bars.iter().enumerate() {
+        let [p, q] = b.joints;
+        if let Some(body) = linkage.bodies.iter().position(|body| body.contains(&p) && body.contains(&q)) {
+            let drawn = crate::linkage::dist(linkage.drawn[p], linkage.drawn[q]);
+            let agrees = crate::scene::body_bar_agrees(b.length, drawn, linkage.scale);
+            out.push(BodyBar { bar, body, agrees });
+        }
+    }
+    out
+}
+
 /// Generic 2D rigidity by the (2,3) pebble game (Jacobs–Hendrickson), O(n·m).
+/// Bars within bodies are ignored when they agree with the body, and counted
+/// last when they do not (so they, not the body, are named redundant).
 pub fn rigidity(linkage: &Linkage) -> Rigidity {
     let n = linkage.n_joints();
     let mut pebbles = vec![2u8; n];
     let mut out: Vec<Vec<usize>> = vec![Vec::new(); n];
     let mut independent = 0usize;
     let mut redundant = Vec::new();
-    for ([u, v], origin) in linkage.constraint_edges() {
+    let within = bars_within_bodies(linkage);
+    let is = |c: &Constraint, agrees: bool| within.iter().any(|b| *c == Constraint::Bar(b.bar) && b.agrees == agrees);
+    let edges = linkage.constraint_edges();
+    let ordered =
+        edges.iter().filter(|(_, c)| !is(c, true) && !is(c, false)).chain(edges.iter().filter(|(_, c)| is(c, false)));
+    for &([u, v], origin) in ordered {
         let accepted = loop {
             if pebbles[u] + pebbles[v] >= 4 {
                 break true;

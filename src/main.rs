@@ -3,7 +3,7 @@
 
 use std::process::ExitCode;
 
-use clap::{Parser, Subcommand, ValueEnum};
+use clap::{Args, Parser, Subcommand, ValueEnum};
 
 use caymos::analysis::{Analysis, Scope, Solved, analyse, analyse_with};
 use caymos::bundled;
@@ -30,6 +30,30 @@ struct Cli {
 enum Format {
     Text,
     Json,
+}
+
+/// How the motion commands analyse the scene before they walk it.
+#[derive(Args, Debug, Clone)]
+struct AnalysisArgs {
+    /// The base non-edge as two joint names, e.g. `--base A,B`.
+    #[arg(long)]
+    base: Option<String>,
+    /// The full analysis (every type), so component numbers follow `report --all`.
+    /// Without it, scenes with more than 2^16 types are analysed lazily and
+    /// further components are walked on demand.
+    #[arg(long)]
+    all: bool,
+}
+
+/// How far the walking commands go.
+#[derive(Args, Debug, Clone)]
+struct WalkArgs {
+    /// Largest joint move between samples, in scene units (default: 1% of the drawing's bounding-box diagonal).
+    #[arg(long)]
+    step: Option<f64>,
+    /// Sample budget: at most this many realizations are computed per walk; the output says when it is reached.
+    #[arg(long, default_value_t = caymos::tolerance::DEFAULT_MAX_SAMPLES, value_parser = at_least_one)]
+    max_samples: usize,
 }
 
 #[derive(Subcommand, Debug)]
@@ -87,9 +111,10 @@ enum Command {
         to: String,
         #[arg(long, value_enum, default_value = "text")]
         format: Format,
-        /// Largest joint move between samples when measuring (default: 1% of the scene scale).
-        #[arg(long)]
-        step: Option<f64>,
+        #[command(flatten)]
+        analysis: AnalysisArgs,
+        #[command(flatten)]
+        walk: WalkArgs,
     },
     /// CSV of joint positions along a component or a path.
     Trace {
@@ -102,18 +127,20 @@ enum Command {
         #[arg(long, requires = "from", allow_hyphen_values = true)]
         to: Option<String>,
         /// Which arc between --from and --to: 1 (along the component) or 2 (against); default the shorter.
-        #[arg(long)]
+        #[arg(long, requires = "from")]
         arc: Option<usize>,
         /// Joints to trace, e.g. `F,K` (default: all).
         #[arg(long)]
         joints: Option<String>,
-        #[arg(long)]
-        step: Option<f64>,
         /// Append the complete Cayley distance vector (the Cayley curve) to each row.
         #[arg(long)]
         cayley: bool,
         #[arg(long)]
         output: Option<std::path::PathBuf>,
+        #[command(flatten)]
+        analysis: AnalysisArgs,
+        #[command(flatten)]
+        walk: WalkArgs,
     },
     /// Closest pair of realizations between two components, by Cayley distance.
     Closest {
@@ -126,6 +153,8 @@ enum Command {
         gap: f64,
         #[arg(long, value_enum, default_value = "text")]
         format: Format,
+        #[command(flatten)]
+        analysis: AnalysisArgs,
     },
     /// Speed against error: every method's time and error against the double-double reference.
     Bench {
@@ -133,8 +162,8 @@ enum Command {
         scenes: Vec<String>,
         #[arg(long, value_enum, default_value = "text")]
         format: Format,
-        /// Timed repetitions after a warm-up (the median is reported).
-        #[arg(long, default_value_t = 5)]
+        /// Timed repetitions after a warm-up (the median is reported); at least 1.
+        #[arg(long, default_value_t = 5, value_parser = at_least_one)]
         repeat: usize,
         /// Also the lazy walk on generated chains (10…1000 steps) and Strandbeests (1…12 legs).
         #[arg(long)]
@@ -155,9 +184,11 @@ enum Command {
         #[arg(long)]
         joints: Option<String>,
         #[arg(long)]
-        step: Option<f64>,
-        #[arg(long)]
         output: Option<std::path::PathBuf>,
+        #[command(flatten)]
+        analysis: AnalysisArgs,
+        #[command(flatten)]
+        walk: WalkArgs,
     },
 }
 
@@ -209,7 +240,11 @@ fn run(command: Command) -> Result<u8, Failure> {
         Command::List => {
             for b in bundled::BUNDLED {
                 let scene = bundled::load(b.name)?;
-                emit(&format!("{:<22} {}\n", b.name, scene.description.unwrap_or_default()));
+                emit(&format!("{:<24} {}\n", b.name, scene.description.unwrap_or_default()));
+            }
+            emit("\nHard cases (THEORY.md §6), generated; open them by name like the bundled scenes:\n");
+            for h in caymos::generate::hard_cases() {
+                emit(&format!("{:<24} {}\n", h.name, h.description.unwrap_or_default()));
             }
             Ok(0)
         }
@@ -231,64 +266,85 @@ fn run(command: Command) -> Result<u8, Failure> {
             }
             Ok(if report.one_dof_tree_decomposable { 0 } else { 2 })
         }
-        Command::Path { scene, from, to, format, step } => {
-            let (a, mut s) = solved(scene.as_deref())?;
+        Command::Path { scene, from, to, format, analysis, walk } => {
+            let (a, mut s) = solved(scene.as_deref(), &analysis)?;
             commands::include_specs(&mut s, &[&from, &to]);
-            let step = positive_step(step, &a)?;
-            let report = commands::path(&a, &s, &from, &to, step).map_err(arg_error)?;
+            let walk = walk_options(&walk, &a)?;
+            let report = commands::path(&a, &s, &from, &to, walk).map_err(arg_error)?;
             match format {
                 Format::Json => emit(&format!("{}\n", serde_json::to_string_pretty(&report).expect("serializes"))),
                 Format::Text => emit(&report.to_text()),
             }
             Ok(0)
         }
-        Command::Trace { scene, component, from, to, arc, joints, step, cayley, output } => {
-            let (a, mut s) = solved(scene.as_deref())?;
+        Command::Trace { scene, component, from, to, arc, joints, cayley, output, analysis, walk } => {
+            let (a, mut s) = solved(scene.as_deref(), &analysis)?;
             commands::include_specs(&mut s, &[from.as_deref().unwrap_or("drawn"), to.as_deref().unwrap_or("drawn")]);
-            let step = positive_step(step, &a)?;
+            if let Some(k) = component {
+                commands::walk_components(&mut s, k + 1);
+            }
+            let walk = walk_options(&walk, &a)?;
             let joints = commands::parse_joints(&a, joints.as_deref()).map_err(arg_error)?;
             let between = from.as_deref().zip(to.as_deref()).map(|(f, t)| (f, t, arc));
             let segments = commands::trace_segments(&a, &s, component, between).map_err(arg_error)?;
-            write_out(output, &commands::trace_csv(&a, &s, segments, &joints, step, cayley))?;
+            let summary =
+                write_streamed(output, |out| commands::trace_csv(&a, &s, segments, &joints, walk, cayley, out))?;
+            note_all(commands::lazy_note(&s).into_iter().chain(commands::walk_notes(&summary, walk.max_samples)));
             Ok(0)
         }
-        Command::Closest { scene, components, gap, format } => {
-            let (a, s) = solved(scene.as_deref())?;
+        Command::Closest { scene, components, gap, format, analysis } => {
+            let (a, mut s) = solved(scene.as_deref(), &analysis)?;
             let pair: Vec<Option<usize>> = components.split(',').map(|x| x.trim().parse().ok()).collect();
             let [Some(i), Some(j)] = pair[..] else {
                 return Err(arg_error(format!("--components {components}: give two component indices, e.g. 0,3")));
             };
+            commands::walk_components(&mut s, i.max(j) + 1);
             let opts = caymos::distance::ClosestOptions { gap, ..Default::default() };
             let c = commands::closest_with(&a, &s, i, j, opts).map_err(arg_error)?;
             match format {
                 Format::Json => emit(&format!("{}\n", serde_json::to_string_pretty(&c).expect("serializes"))),
-                Format::Text => emit(&c.to_text()),
+                Format::Text => {
+                    emit(&c.to_text());
+                    if let Some(note) = commands::lazy_note(&s) {
+                        emit(&format!("  note: {note}\n"));
+                    }
+                }
             }
             Ok(0)
         }
         Command::Bench { scenes, format, repeat, scaling } => {
+            let named = !scenes.is_empty();
             let mut inputs: Vec<caymos::scene::Scene> = Vec::new();
-            if scenes.is_empty() {
+            if named {
+                for name in &scenes {
+                    inputs.push(bundled::resolve(Some(name))?);
+                }
+            } else {
                 for b in bundled::BUNDLED {
                     inputs.push(bundled::load(b.name)?);
                 }
                 inputs.extend(caymos::generate::hard_cases());
-            } else {
-                for name in &scenes {
-                    match caymos::generate::hard_cases().into_iter().find(|h| &h.name == name) {
-                        Some(h) => inputs.push(h),
-                        None => inputs.push(bundled::resolve(Some(name))?),
-                    }
-                }
             }
-            let mut report =
-                caymos::bench::BenchReport { repeat, methods: Vec::new(), stepping: Vec::new(), scaling: Vec::new() };
+            let mut report = caymos::bench::BenchReport {
+                repeat,
+                methods: Vec::new(),
+                stepping: Vec::new(),
+                scaling: Vec::new(),
+                skipped: Vec::new(),
+            };
             for scene in inputs {
                 let analysis = analyse(scene, None)?;
-                let Ok(solved) = analysis.outcome.clone() else { continue };
-                let (m, s) = caymos::bench::bench_scene(&analysis, &solved, repeat);
-                report.methods.extend(m);
-                report.stepping.extend(s);
+                match analysis.outcome.clone() {
+                    Ok(solved) => {
+                        let (m, s) = caymos::bench::bench_scene(&analysis, &solved, repeat);
+                        report.methods.extend(m);
+                        report.stepping.extend(s);
+                    }
+                    Err(o) => report.skipped.push(caymos::bench::Skipped {
+                        scene: analysis.scene.name.clone(),
+                        reason: format!("outside the handled class: {}", o.describe(&analysis.linkage)),
+                    }),
+                }
             }
             if scaling {
                 for (family, scene) in caymos::bench::scaling_scenes() {
@@ -299,7 +355,9 @@ fn run(command: Command) -> Result<u8, Failure> {
                 Format::Json => emit(&format!("{}\n", serde_json::to_string_pretty(&report).expect("serializes"))),
                 Format::Text => emit(&report.to_text()),
             }
-            Ok(0)
+            // Like `report`: a named scene outside the class (or nothing benchmarked) exits 2.
+            let nothing = report.methods.is_empty() && report.scaling.is_empty();
+            Ok(if (named && !report.skipped.is_empty()) || nothing { 2 } else { 0 })
         }
         Command::Generate { family, output } => {
             let scene = match family {
@@ -310,12 +368,20 @@ fn run(command: Command) -> Result<u8, Failure> {
             write_out(output, &caymos::generate::to_toml(&scene))?;
             Ok(0)
         }
-        Command::Svg { scene, component, joints, step, output } => {
-            let (a, s) = solved(scene.as_deref())?;
-            let step = positive_step(step, &a)?;
+        Command::Svg { scene, component, joints, output, analysis, walk } => {
+            let (a, mut s) = solved(scene.as_deref(), &analysis)?;
+            if let Some(k) = component {
+                commands::walk_components(&mut s, k + 1);
+            }
+            let walk = walk_options(&walk, &a)?;
             let joints = commands::parse_joints(&a, joints.as_deref()).map_err(arg_error)?;
             let segments = commands::trace_segments(&a, &s, component, None).map_err(arg_error)?;
-            write_out(output, &commands::svg(&a, &s, segments, &joints, step))?;
+            let svg = commands::svg(&a, &s, segments, &joints, walk);
+            write_out(output, &svg.text)?;
+            if svg.points_cut {
+                note_all([commands::svg_cut_note(joints.len())]);
+            }
+            note_all(commands::lazy_note(&s).into_iter().chain(commands::walk_notes(&svg.walk, walk.max_samples)));
             Ok(0)
         }
     }
@@ -335,12 +401,17 @@ fn emit(text: &str) {
     }
 }
 
-/// Load and analyse a scene that must be in the handled class.
-fn solved(scene: Option<&str>) -> Result<(Analysis, Solved), Failure> {
+/// Load and analyse a scene that must be in the handled class and have a
+/// realization (exit 2 outside the class, 1 with no realization, saying why).
+fn solved(scene: Option<&str>, args: &AnalysisArgs) -> Result<(Analysis, Solved), Failure> {
     let scene = bundled::resolve(scene)?;
-    let analysis = analyse(scene, None)?;
+    let base = args.base.as_deref().map(|b| parse_base(&scene, b)).transpose()?;
+    let analysis = analyse_with(scene, base, if args.all { Scope::Full } else { Scope::Auto })?;
     match analysis.outcome.clone() {
-        Ok(s) => Ok((analysis, s)),
+        Ok(s) => match commands::no_realization(&analysis, &s) {
+            Some(why) => Err(Failure { message: format!("{}: {why}", analysis.scene.source), code: 1 }),
+            None => Ok((analysis, s)),
+        },
         Err(o) => Err(Failure {
             message: format!("{}: outside the handled class: {}", analysis.scene.source, o.describe(&analysis.linkage)),
             code: 2,
@@ -348,8 +419,41 @@ fn solved(scene: Option<&str>) -> Result<(Analysis, Solved), Failure> {
     }
 }
 
+/// Notes about the output (not errors) on stderr, one line each.
+fn note_all(notes: impl IntoIterator<Item = String>) {
+    for n in notes {
+        eprintln!("caymos: note: {n}");
+    }
+}
+
 fn arg_error(message: String) -> Failure {
     Failure { message, code: 1 }
+}
+
+/// Stream output to a file or stdout as it is made (buffered); a reader that
+/// went away ends the program quietly, like [`emit`].
+fn write_streamed<R>(
+    output: Option<std::path::PathBuf>,
+    write: impl FnOnce(&mut dyn std::io::Write) -> std::io::Result<R>,
+) -> Result<R, Failure> {
+    use std::io::Write;
+    let failed = |what: &str, e: std::io::Error| Failure { message: format!("{what}: cannot write: {e}"), code: 1 };
+    match output {
+        Some(path) => {
+            let file = std::fs::File::create(&path).map_err(|e| failed(&path.display().to_string(), e))?;
+            let mut out = std::io::BufWriter::new(file);
+            let r = write(&mut out).and_then(|r| out.flush().map(|_| r));
+            r.map_err(|e| failed(&path.display().to_string(), e))
+        }
+        None => {
+            let mut out = std::io::BufWriter::new(std::io::stdout().lock());
+            match write(&mut out).and_then(|r| out.flush().map(|_| r)) {
+                Ok(r) => Ok(r),
+                Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => std::process::exit(0),
+                Err(e) => Err(failed("standard output", e)),
+            }
+        }
+    }
 }
 
 fn write_out(output: Option<std::path::PathBuf>, text: &str) -> Result<(), Failure> {
@@ -363,11 +467,21 @@ fn write_out(output: Option<std::path::PathBuf>, text: &str) -> Result<(), Failu
     }
 }
 
-fn positive_step(step: Option<f64>, a: &Analysis) -> Result<f64, Failure> {
-    match step {
-        None => Ok(commands::default_step(a)),
-        Some(s) if s.is_finite() && s > 0.0 => Ok(s),
-        Some(s) => Err(arg_error(format!("--step {s}: give a positive length in scene units"))),
+fn walk_options(args: &WalkArgs, a: &Analysis) -> Result<commands::Walk, Failure> {
+    let step = match args.step {
+        None => commands::default_step(a),
+        Some(s) if s.is_finite() && s > 0.0 => s,
+        Some(s) => return Err(arg_error(format!("--step {s}: give a positive length in scene units"))),
+    };
+    Ok(commands::Walk { step, max_samples: args.max_samples })
+}
+
+/// A count of at least 1 (`--repeat`, `--max-samples`).
+fn at_least_one(text: &str) -> Result<usize, String> {
+    match text.trim().parse::<usize>() {
+        Ok(n) if n >= 1 => Ok(n),
+        Ok(_) => Err("give at least 1".into()),
+        Err(_) => Err("give a whole number, at least 1".into()),
     }
 }
 

@@ -319,11 +319,62 @@ pub struct Sample {
     pub segment: usize,
     /// Set when the sample is a segment's end (an interval endpoint, except at the walk's end).
     pub at_end: bool,
+    /// Set when some joint moved farther than the step from the previous
+    /// sample although λ could not be resolved any finer: the motion is
+    /// discontinuous here (a degenerate pass, e.g. a rhombus folding flat), or
+    /// an unresolved stretch was skipped (see [`WalkSummary::unresolved`]).
+    /// No continuous motion joins this sample to the previous one.
+    pub jump: bool,
+}
+
+/// What a walk met, for the commands to say: how many samples, whether the
+/// budget stopped it, where it jumped, what it skipped, where it failed.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct WalkSummary {
+    pub samples: usize,
+    /// Stopped at the sample budget before the end of the walk.
+    pub truncated: bool,
+    /// λ of every sample reached by a jump.
+    pub jumps: Vec<f64>,
+    /// Stretches `[from, to]` of λ skipped as one jump: more than
+    /// [`crate::tolerance::STEPPER_MAX_JUMPS_PER_SEGMENT`] jumps in one segment
+    /// mean the realization is not resolved in f64 there.
+    pub unresolved: Vec<[f64; 2]>,
+    /// λ at which no realization could be computed: the walk ended there.
+    pub stopped_at: Option<f64>,
+}
+
+impl WalkSummary {
+    /// Whether the walk covered all of its segments.
+    pub fn complete(&self) -> bool {
+        !self.truncated && self.stopped_at.is_none()
+    }
+}
+
+/// The diagonal of the points' bounding box: the drawing's extent, the unit
+/// of default steps. Computed on halved coordinates so that drawings near
+/// ±f64::MAX do not overflow; 0 for fewer than two distinct points.
+pub fn bounding_diagonal(points: &[P2<f64>]) -> f64 {
+    let mut lo = [f64::INFINITY; 2];
+    let mut hi = [f64::NEG_INFINITY; 2];
+    for p in points {
+        for axis in 0..2 {
+            lo[axis] = lo[axis].min(p[axis] / 2.0);
+            hi[axis] = hi[axis].max(p[axis] / 2.0);
+        }
+    }
+    if points.is_empty() {
+        return 0.0;
+    }
+    ((hi[0] - lo[0]).hypot(hi[1] - lo[1]) * 2.0).min(f64::MAX)
 }
 
 /// Walks segments by a geometric step: consecutive samples differ by at most
 /// `step` in every joint's position (display frame), except where λ cannot be
-/// resolved finer (adjacent floats); every segment end is hit exactly.
+/// resolved finer (adjacent floats): such a sample is marked as a
+/// [jump](Sample::jump). Every segment end is hit exactly. At most `budget`
+/// samples are made (default [`crate::tolerance::DEFAULT_MAX_SAMPLES`]);
+/// [`Stepper::summary`] says whether the walk was cut there.
 pub struct Stepper<'a> {
     con: &'a Construction<f64>,
     linkage: &'a Linkage,
@@ -334,25 +385,148 @@ pub struct Stepper<'a> {
     last: Option<Vec<P2<f64>>>,
     delta: f64,
     done: bool,
+    budget: usize,
+    /// Jumps met in the current segment.
+    jumps_here: usize,
+    summary: WalkSummary,
 }
 
 impl<'a> Stepper<'a> {
     pub fn new(con: &'a Construction<f64>, linkage: &'a Linkage, segments: Vec<Segment>, step: f64) -> Self {
         let lambda = segments.first().map_or(0.0, |s| s.from);
         let delta = step.max(f64::MIN_POSITIVE);
-        Stepper { con, linkage, done: segments.is_empty(), segments, step, seg: 0, lambda, last: None, delta }
+        Stepper {
+            con,
+            linkage,
+            done: segments.is_empty(),
+            segments,
+            step,
+            seg: 0,
+            lambda,
+            last: None,
+            delta,
+            budget: crate::tolerance::DEFAULT_MAX_SAMPLES,
+            jumps_here: 0,
+            summary: WalkSummary::default(),
+        }
+    }
+
+    /// The same walk with a sample budget of `max_samples`.
+    pub fn with_budget(mut self, max_samples: usize) -> Self {
+        self.budget = max_samples;
+        self
+    }
+
+    /// What the walk has met so far (complete once the iterator is exhausted).
+    pub fn summary(&self) -> &WalkSummary {
+        &self.summary
     }
 
     fn positions(&self, lambda: f64, ty: &RealizationType) -> Option<Vec<P2<f64>>> {
         let s = &self.segments[self.seg];
         realization_at(self.con, self.linkage, &Segment { ty: ty.clone(), ..s.clone() }, lambda)
     }
+
+    /// Whether nothing is left to walk: at the end of the last segment of positive length.
+    fn at_walk_end(&self) -> bool {
+        self.last.is_some()
+            && self.lambda == self.segments[self.seg].to
+            && self.segments[self.seg + 1..].iter().all(|s| s.from == s.to)
+    }
+
+    /// The next sample, or `None` at the end of the walk or where no realization exists.
+    fn advance(&mut self) -> Option<Sample> {
+        if self.last.is_none() {
+            let s = self.segments[0].clone();
+            let Some(pos) = self.positions(s.from, &s.ty) else {
+                self.summary.stopped_at = Some(s.from);
+                return None;
+            };
+            self.last = Some(pos.clone());
+            let at_end = s.from == s.to;
+            return Some(Sample { lambda: s.from, ty: s.ty, positions: pos, segment: 0, at_end, jump: false });
+        }
+        // Past a segment's end: continue in the next one (same λ there).
+        while self.lambda == self.segments[self.seg].to {
+            if self.seg + 1 == self.segments.len() {
+                return None;
+            }
+            self.seg += 1;
+            self.jumps_here = 0;
+            self.lambda = self.segments[self.seg].from;
+        }
+        let s = self.segments[self.seg].clone();
+        if self.jumps_here > crate::tolerance::STEPPER_MAX_JUMPS_PER_SEGMENT {
+            // Not resolved in f64 here: one marked jump to the segment's end
+            // instead of a crawl float by float.
+            let Some(pos) = self.positions(s.to, &s.ty) else {
+                self.summary.stopped_at = Some(s.to);
+                return None;
+            };
+            self.summary.unresolved.push([self.lambda, s.to]);
+            self.lambda = s.to;
+            self.last = Some(pos.clone());
+            return Some(Sample {
+                lambda: s.to,
+                ty: s.ty,
+                positions: pos,
+                segment: self.seg,
+                at_end: true,
+                jump: true,
+            });
+        }
+        let remaining = s.to - self.lambda;
+        let first_try = (self.delta * 2.0).min(remaining.abs());
+        let (delta, target, found) = self.search(&s, first_try);
+        let Some((pos, moved)) = found else {
+            self.summary.stopped_at = Some(target);
+            return None;
+        };
+        let jump = moved > self.step;
+        if jump {
+            self.jumps_here += 1;
+        }
+        // After a jump the motion beyond is as smooth as before it: resume the step that was tried.
+        self.delta = if jump { first_try / 2.0 } else { delta }.max(f64::MIN_POSITIVE);
+        self.lambda = target;
+        self.last = Some(pos.clone());
+        let at_end = target == s.to;
+        Some(Sample { lambda: target, ty: s.ty, positions: pos, segment: self.seg, at_end, jump })
+    }
+
+    /// Halve the λ step from `delta` until no joint moves more than the step,
+    /// or λ cannot be resolved finer. Returns the λ step, the target λ and the
+    /// realization there with its largest joint move (`None`: no realization
+    /// at the finest resolution).
+    #[allow(clippy::type_complexity)]
+    fn search(&self, s: &Segment, mut delta: f64) -> (f64, f64, Option<(Vec<P2<f64>>, f64)>) {
+        let remaining = s.to - self.lambda;
+        let last = self.last.as_deref().unwrap_or_default();
+        loop {
+            let target = if delta >= remaining.abs() { s.to } else { self.lambda + delta * remaining.signum() };
+            let pos = self.positions(target, &s.ty);
+            // Below a few ulps of λ the step cannot shrink: accept, as a jump if it moved too far.
+            let small = delta <= 4.0 * f64::EPSILON * self.lambda.abs().max(self.con.scale);
+            match pos {
+                Some(pos) => {
+                    let moved = max_move(&pos, last);
+                    if small || moved <= self.step {
+                        return (delta, target, Some((pos, moved)));
+                    }
+                }
+                None if small => return (delta, target, None),
+                None => {}
+            }
+            delta /= 2.0;
+        }
+    }
 }
 
 /// Joint positions (display frame) at λ on a segment. At the segment's ends
 /// the steps flat there are placed exactly flat; where a step degenerates
 /// exactly at λ (its base joints coincide, as in a folded rhombus) the limit
-/// is taken by nudging λ toward the segment's interior.
+/// is taken by nudging λ toward the segment's interior. `None` when no
+/// realization can be computed there (or it is not finite).
 pub fn realization_at(con: &Construction<f64>, linkage: &Linkage, s: &Segment, lambda: f64) -> Option<Vec<P2<f64>>> {
     let inward = if lambda == s.to { s.from - s.to } else { s.to - s.from }.signum();
     let flat: &[usize] = if lambda == s.to {
@@ -366,7 +540,8 @@ pub fn realization_at(con: &Construction<f64>, linkage: &Linkage, s: &Segment, l
     let pos = con.realize_flat(lambda, &s.ty.0, n, flat).ok().or_else(|| {
         [1e-12, 1e-10, 1e-8].iter().find_map(|e| con.realize(lambda + inward * e * con.scale, &s.ty).ok())
     })?;
-    Some(to_display(linkage, con.base, &pos))
+    let shown = to_display(linkage, con.base, &pos);
+    shown.iter().all(|p| p[0].is_finite() && p[1].is_finite()).then_some(shown)
 }
 
 fn max_move(a: &[P2<f64>], b: &[P2<f64>]) -> f64 {
@@ -380,79 +555,62 @@ impl Iterator for Stepper<'_> {
         if self.done {
             return None;
         }
-        let Some(last) = self.last.clone() else {
-            let s = &self.segments[0];
-            let pos = self.positions(s.from, &s.ty)?;
-            self.last = Some(pos.clone());
-            let at_end = s.from == s.to;
-            return Some(Sample { lambda: s.from, ty: s.ty.clone(), positions: pos, segment: 0, at_end });
-        };
-        // Past a segment's end: continue in the next one (same realization there).
-        while self.lambda == self.segments[self.seg].to {
-            if self.seg + 1 == self.segments.len() {
-                self.done = true;
-                return None;
-            }
-            self.seg += 1;
-            self.lambda = self.segments[self.seg].from;
+        if self.summary.samples >= self.budget {
+            self.done = true;
+            self.summary.truncated = !self.at_walk_end();
+            return None;
         }
-        let s = self.segments[self.seg].clone();
-        let remaining = s.to - self.lambda;
-        let mut delta = (self.delta * 2.0).min(remaining.abs());
-        loop {
-            let target = if delta >= remaining.abs() { s.to } else { self.lambda + delta * remaining.signum() };
-            let pos = self.positions(target, &s.ty);
-            let small = delta <= 4.0 * f64::EPSILON * self.lambda.abs().max(self.con.scale);
-            match pos {
-                Some(pos) if small || max_move(&pos, &last) <= self.step => {
-                    self.delta = delta.max(f64::MIN_POSITIVE);
-                    self.lambda = target;
-                    self.last = Some(pos.clone());
-                    let at_end = target == s.to;
-                    return Some(Sample { lambda: target, ty: s.ty, positions: pos, segment: self.seg, at_end });
+        let sample = self.advance();
+        match &sample {
+            Some(s) => {
+                self.summary.samples += 1;
+                if s.jump {
+                    self.summary.jumps.push(s.lambda);
                 }
-                None if small => {
-                    self.done = true;
-                    return None;
-                }
-                _ => delta /= 2.0,
             }
+            None => self.done = true,
         }
+        sample
     }
 }
 
 /// Measures of a walked path.
 #[derive(Clone, Debug, PartialEq)]
 pub struct PathMeasure {
-    /// Length of the polyline of complete Cayley distance vectors.
+    /// Length of the polyline of complete Cayley distance vectors (jumps not counted).
     pub cayley_length: f64,
-    /// The longest distance any one joint travels.
+    /// The longest distance any one joint travels (jumps not counted).
     pub max_joint_travel: f64,
-    pub samples: usize,
+    pub walk: WalkSummary,
 }
 
-/// Walk `segments` and measure them (`ccv` pairs give the Cayley vector).
+/// Walk `segments` within `budget` samples and measure them (`ccv` pairs
+/// give the Cayley vector). A jump is no motion: it adds nothing to either length.
 pub fn measure(
     con: &Construction<f64>,
     linkage: &Linkage,
     segments: Vec<Segment>,
     step: f64,
     ccv: &[[usize; 2]],
+    budget: usize,
 ) -> PathMeasure {
     let mut travel = vec![0.0; linkage.n_joints()];
     let mut cayley_length = 0.0;
     let mut prev: Option<(Vec<P2<f64>>, Vec<f64>)> = None;
-    let mut samples = 0;
-    for s in Stepper::new(con, linkage, segments, step) {
+    let mut walk = Stepper::new(con, linkage, segments, step).with_budget(budget);
+    for s in walk.by_ref() {
         let v = crate::distance::cayley_vector(&s.positions, ccv);
-        if let Some((p, w)) = &prev {
+        if let (Some((p, w)), false) = (&prev, s.jump) {
             for (t, (a, b)) in travel.iter_mut().zip(p.iter().zip(&s.positions)) {
                 *t += (a[0] - b[0]).hypot(a[1] - b[1]);
             }
             cayley_length += crate::distance::euclid(w, &v);
         }
         prev = Some((s.positions, v));
-        samples += 1;
     }
-    PathMeasure { cayley_length, max_joint_travel: travel.into_iter().fold(0.0, f64::max), samples }
+    PathMeasure {
+        cayley_length,
+        max_joint_travel: travel.into_iter().fold(0.0, f64::max),
+        walk: walk.summary().clone(),
+    }
 }

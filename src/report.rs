@@ -122,6 +122,8 @@ pub struct Report {
     pub numeric_steps: Vec<usize>,
     pub accuracy: Option<AccuracyReport>,
     pub components: Vec<ComponentReport>,
+    /// Why there is no component, in words (`None` when there is one).
+    pub no_realization: Option<String>,
     /// The complete Cayley vector cannot tell mirror images apart (all clusters achiral).
     pub mirror_pairs: bool,
     pub warnings: Vec<String>,
@@ -160,10 +162,12 @@ impl Report {
             numeric_steps: Vec::new(),
             accuracy: None,
             components: Vec::new(),
+            no_realization: None,
             mirror_pairs: false,
             warnings: a.warnings.clone(),
             timings_us: a.timings.0.iter().map(|(k, v)| (k.to_string(), *v)).collect(),
         };
+        r.warnings.extend(body_bar_warnings(a));
         match &a.outcome {
             Err(outside) => {
                 r.reason = Some(outside.describe(l));
@@ -237,6 +241,7 @@ impl Report {
                         closed: c.closed,
                     })
                     .collect();
+                r.no_realization = crate::commands::no_realization(a, s);
                 r.mirror_pairs = crate::distance::mirror_images_exist(&s.construction, &s.dec);
                 r.accuracy = s.accuracy.as_ref().map(|acc| AccuracyReport {
                     reference: "double-double (106-bit)",
@@ -385,7 +390,9 @@ impl Report {
                 ),
             }
         );
-        if let Some(a) = &self.accuracy {
+        if let (Some(_), true) = (&self.accuracy, self.oriented_intervals.is_empty()) {
+            let _ = writeln!(o, "{:<24}no endpoints to compare", "Accuracy");
+        } else if let Some(a) = &self.accuracy {
             let _ = writeln!(
                 o,
                 "{:<24}f64 endpoints within {} of the double-double run from the input as written ({} of the scale, {} of their own value){}",
@@ -444,6 +451,10 @@ impl Report {
     }
 
     fn write_components(&self, o: &mut String) {
+        if let Some(why) = &self.no_realization {
+            let _ = writeln!(o, "{:<24}0: {why}", "Components");
+            return;
+        }
         let _ = writeln!(
             o,
             "{:<24}{}{}",
@@ -478,7 +489,13 @@ impl Report {
             .collect();
         if rows.len() <= 40 {
             write_table(o, &["#", "intervals", "λ range", "types in order"], &rows);
-            let _ = writeln!(o, "  (* holds the drawn realization)");
+            if self.components.iter().any(|c| c.contains_drawn) {
+                let _ = writeln!(o, "  (* holds the drawn realization)");
+            } else {
+                let _ = writeln!(o, "  (the drawn realization lies in none of these components; see the warnings)");
+            }
+        } else {
+            let _ = writeln!(o, "  ({} components: the table is left out; --format json lists them)", rows.len());
         }
     }
 
@@ -531,14 +548,54 @@ impl Report {
     }
 }
 
+/// One warning per bar that repeats a body it agrees with (recognition ignores it).
+fn body_bar_warnings(a: &Analysis) -> Vec<String> {
+    let l = &a.linkage;
+    crate::decompose::bars_within_bodies(l)
+        .into_iter()
+        .filter(|b| b.agrees)
+        .map(|b| {
+            let line = a.scene.bars.get(b.bar).map_or(0, |bar| bar.line);
+            let at = if line > 0 { format!(", line {line}") } else { String::new() };
+            let body: Vec<&str> = l.bodies[b.body].iter().map(|&j| l.names[j].as_str()).collect();
+            format!(
+                "bar {} ({}{at}) joins two joints of body {} [{}], which already holds them at that length: the bar adds nothing and is ignored",
+                b.bar + 1,
+                l.pair_name(l.bars[b.bar].joints),
+                b.body + 1,
+                body.join(", ")
+            )
+        })
+        .collect()
+}
+
 /// A number with 6 significant digits, without trailing zeros.
 pub fn fmt_num(x: f64) -> String {
+    fmt_sig(x, 6)
+}
+
+/// A number with `digits` significant digits (1 to 17), trailing zeros
+/// dropped: positional between 1e-4 and 1e9, else scientific (`4.41093e-20`).
+/// Never a fixed number of decimals, so no scale prints as 0.
+pub fn fmt_sig(x: f64, digits: usize) -> String {
     if x == 0.0 || !x.is_finite() {
         return format!("{x}");
     }
-    let digits = (6 - 1 - x.abs().log10().floor() as i32).clamp(0, 12) as usize;
-    let s = format!("{x:.digits$}");
-    if s.contains('.') { s.trim_end_matches('0').trim_end_matches('.').to_string() } else { s }
+    let digits = digits.clamp(1, 17);
+    let exp = x.abs().log10().floor() as i32;
+    let trim = |s: &str| -> String {
+        if s.contains('.') { s.trim_end_matches('0').trim_end_matches('.').to_string() } else { s.to_string() }
+    };
+    if (-4..9).contains(&exp) {
+        let decimals = (digits as i32 - 1 - exp).max(0) as usize;
+        trim(&format!("{x:.decimals$}"))
+    } else {
+        let s = format!("{x:.prec$e}", prec = digits - 1);
+        match s.split_once('e') {
+            Some((mantissa, e)) => format!("{}e{e}", trim(mantissa)),
+            None => s,
+        }
+    }
 }
 
 /// A small number in scientific notation (errors, residuals).

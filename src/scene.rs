@@ -103,10 +103,6 @@ impl Scene {
 /// The top-level keys a scene may use; anything else (such as a typo) is an error.
 const TOP_LEVEL_KEYS: [&str; 7] = ["name", "description", "base", "ground", "bars", "bodies", "joints"];
 
-/// Two joints closer than this fraction of the drawing's bounding-box diagonal
-/// count as drawn at the same point.
-const SAME_POINT_TOLERANCE: f64 = 1e-12;
-
 /// A TOML value together with its byte span in the scene text.
 type Value<'i> = Spanned<DeValue<'i>>;
 
@@ -114,9 +110,11 @@ type Value<'i> = Spanned<DeValue<'i>>;
 /// when the file has no `name` key (callers pass the file stem).
 ///
 /// Validated here: TOML syntax; only known top-level keys; the type of every
-/// value; joints (a non-empty `[joints]` table of finite `[x, y]` positions, no
-/// two at the same point); bars (at least one; two known, distinct joints; an
-/// optional positive finite length; no duplicates in either order); bodies (at
+/// value; joints (a non-empty `[joints]` table of finite `[x, y]` positions
+/// with visible names, no two at the same point relative to the scene's
+/// scale); bars (at least one; two known, distinct joints; an optional
+/// positive finite length; no duplicates in either order; a bar between two
+/// joints of one body must agree with the body's drawn shape); bodies (at
 /// least three known, distinct joints); the base (two known, distinct joints
 /// that are not a bar); the ground (one or two known, distinct joints).
 /// Connectivity and rigidity are left to the solver.
@@ -135,10 +133,12 @@ pub fn parse_scene(text: &str, source: &str, default_name: &str) -> Result<Scene
     };
     let description = optional_string(&doc, table, "description")?;
     let joints = parse_joints(&doc, table.get("joints"))?;
-    check_distinct_positions(&doc, &joints)?;
     let names = JointNames::new(&joints);
     let bars = parse_bars(&doc, &names, table.get("bars"))?;
     let bodies = parse_bodies(&doc, &names, table.get("bodies"))?;
+    let half_scale = half_scale(&joints, &bars, &bodies);
+    check_distinct_positions(&doc, &joints, half_scale)?;
+    check_bars_within_bodies(&doc, &joints, &bars, &bodies, half_scale)?;
     let base = parse_base(&doc, &names, &bars, table.get("base"))?;
     let ground = parse_ground(&doc, &names, &bars, table.get("ground"))?;
 
@@ -387,8 +387,11 @@ fn misplaced_key_hint(mut error: SceneError, key: &Spanned<DeString>) -> SceneEr
 /// One joint: a non-empty name and a position `[x, y]` of two finite numbers.
 fn parse_joint(doc: &Doc, key: &Spanned<DeString>, value: &Value) -> Result<Joint, SceneError> {
     let name = key.get_ref().as_ref();
-    if name.trim().is_empty() {
+    if name.is_empty() {
         return Err(doc.error_at(key, "a joint name must not be empty"));
+    }
+    if name.trim().is_empty() {
+        return Err(doc.error_at(key, format!("joint name {name:?} is only whitespace: give the joint a visible name")));
     }
     let what = format!("joint {name:?}");
     let DeValue::Array(coords) = value.get_ref() else {
@@ -405,26 +408,41 @@ fn parse_joint(doc: &Doc, key: &Spanned<DeString>, value: &Value) -> Result<Join
     Ok(Joint { name: name.to_string(), pos: [x, y], exact: [exact_x, exact_y], line: doc.line(key.span()) })
 }
 
-/// No two joints may be drawn at the same point: exactly equal, or within
-/// [`SAME_POINT_TOLERANCE`] × the drawing's bounding-box diagonal. The error
-/// is on the later joint's line. (Halved coordinates keep huge values from
-/// overflowing to infinity.)
-fn check_distinct_positions(doc: &Doc, joints: &[Joint]) -> Result<(), SceneError> {
-    let half = |j: &Joint| [j.pos[0] / 2.0, j.pos[1] / 2.0];
-    let mut low = [f64::INFINITY; 2];
-    let mut high = [f64::NEG_INFINITY; 2];
-    for joint in joints {
-        let p = half(joint);
-        for axis in 0..2 {
-            low[axis] = low[axis].min(p[axis]);
-            high[axis] = high[axis].max(p[axis]);
-        }
-    }
-    let tolerance = SAME_POINT_TOLERANCE * (high[0] - low[0]).hypot(high[1] - low[1]);
+/// Half the scene's scale, as the solver defines it
+/// ([`crate::linkage::Linkage::scale`]): the longest bar (stated length, else
+/// drawn) or body span. Halved so that drawings near ±f64::MAX stay finite.
+fn half_scale(joints: &[Joint], bars: &[Bar], bodies: &[Body]) -> f64 {
+    let half_dist = |a: usize, b: usize| half_distance(joints[a].pos, joints[b].pos);
+    let bar_lengths = bars.iter().map(|b| b.length.map_or_else(|| half_dist(b.joints[0], b.joints[1]), |l| l / 2.0));
+    let spans = bodies.iter().flat_map(|body| {
+        body.joints.iter().enumerate().flat_map(move |(i, &p)| body.joints[i + 1..].iter().map(move |&q| (p, q)))
+    });
+    bar_lengths.chain(spans.map(|(p, q)| half_dist(p, q))).fold(0.0, f64::max)
+}
+
+/// Half the distance between two points (finite for any finite points).
+fn half_distance(p: [f64; 2], q: [f64; 2]) -> f64 {
+    (p[0] / 2.0 - q[0] / 2.0).hypot(p[1] / 2.0 - q[1] / 2.0)
+}
+
+/// Whether two points are drawn at the same point: exactly equal, within
+/// [`crate::tolerance::COINCIDENT`] × the scene's scale, or closer than the
+/// drawing can resolve ([`crate::tolerance::DRAWN_RESOLUTION_ULPS`] units in
+/// the last place of their coordinates).
+fn same_point(p: [f64; 2], q: [f64; 2], half_scale: f64) -> bool {
+    let d = half_distance(p, q);
+    let magnitude = p.iter().chain(&q).fold(0.0f64, |m, x| m.max(x.abs())) / 2.0;
+    let resolution = crate::tolerance::DRAWN_RESOLUTION_ULPS * f64::EPSILON * magnitude;
+    p == q || d <= crate::tolerance::COINCIDENT * half_scale || d <= resolution
+}
+
+/// No two joints may be drawn at the same point (see [`same_point`]): the
+/// error is on the later joint's line. The scale is the scene's, not the
+/// drawing's extent, so a far-away joint does not merge two near ones.
+fn check_distinct_positions(doc: &Doc, joints: &[Joint], half_scale: f64) -> Result<(), SceneError> {
     for (i, later) in joints.iter().enumerate() {
         for earlier in &joints[..i] {
-            let (p, q) = (half(later), half(earlier));
-            if later.pos == earlier.pos || (p[0] - q[0]).hypot(p[1] - q[1]) <= tolerance {
+            if same_point(later.pos, earlier.pos, half_scale) {
                 return Err(doc.error_on_line(
                     later.line,
                     format!(
@@ -433,6 +451,55 @@ fn check_distinct_positions(doc: &Doc, joints: &[Joint]) -> Result<(), SceneErro
                     ),
                 ));
             }
+        }
+    }
+    Ok(())
+}
+
+/// Whether a bar's length agrees with the distance at which a body holds its
+/// joints: within [`crate::tolerance::BAR_RESIDUAL`] × the scene's scale (the
+/// accuracy a realization meets its bars to). The solver uses the same test.
+pub fn body_bar_agrees(bar_length: f64, body_distance: f64, scale: f64) -> bool {
+    (bar_length - body_distance).abs() <= crate::tolerance::BAR_RESIDUAL * scale
+}
+
+/// A bar between two joints of one body repeats what the body holds: with a
+/// stated length that disagrees with the body's drawn shape it contradicts
+/// the body, an error on the bar's line. (One that agrees is accepted; the
+/// solver ignores it and says so.)
+fn check_bars_within_bodies(
+    doc: &Doc,
+    joints: &[Joint],
+    bars: &[Bar],
+    bodies: &[Body],
+    half_scale: f64,
+) -> Result<(), SceneError> {
+    for (i, bar) in bars.iter().enumerate() {
+        let [a, b] = bar.joints;
+        let Some(stated) = bar.length else { continue };
+        let Some((k, body)) =
+            bodies.iter().enumerate().find(|(_, body)| body.joints.contains(&a) && body.joints.contains(&b))
+        else {
+            continue;
+        };
+        let half_drawn = half_distance(joints[a].pos, joints[b].pos);
+        if !body_bar_agrees(stated / 2.0, half_drawn, half_scale) {
+            let names: Vec<&str> = body.joints.iter().map(|&j| joints[j].name.as_str()).collect();
+            return Err(doc.error_on_line(
+                bar.line,
+                format!(
+                    "bar {} ({}–{}): its stated length {stated} disagrees with body {} [{}] (line {}), which holds {} and {} {} apart as drawn; drop the bar or make them agree",
+                    i + 1,
+                    shown(&joints[a].name),
+                    shown(&joints[b].name),
+                    k + 1,
+                    names.join(", "),
+                    body.line,
+                    shown(&joints[a].name),
+                    shown(&joints[b].name),
+                    crate::report::fmt_num(half_drawn * 2.0)
+                ),
+            ));
         }
     }
     Ok(())

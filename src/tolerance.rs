@@ -46,3 +46,56 @@ pub const UNION_GAP: f64 = 1e-12;
 /// say nothing. A dip of a later step's slack closer than this to an end is
 /// not looked for.
 pub const LAZY_APPROACH: f64 = 1e-7;
+
+// ---------------------------------------------------------------------------
+// Resource budgets and default steps (not tolerances on values: they bound
+// how much work a command does, never decide a question of structure).
+// Steps are fractions of the drawing's extent (its bounding-box diagonal),
+// so a long chain gets steps as long as its drawing, not as its longest bar.
+
+/// Default geometric step of `trace`, `svg` and `path` (× the drawing's diagonal).
+pub const DEFAULT_STEP_FRACTION: f64 = 0.01;
+
+/// Default step of the terminal UI's arrow keys (× the drawing's diagonal).
+pub const TUI_STEP_FRACTION: f64 = 1.0 / 60.0;
+
+/// Step of the terminal UI's traces and Cayley curve (× the drawing's diagonal).
+pub const TUI_TRACE_STEP_FRACTION: f64 = 1.0 / 150.0;
+
+/// Step of the coarse walk that frames the terminal UI's view (× the drawing's diagonal).
+pub const TUI_BOUNDS_STEP_FRACTION: f64 = 1.0 / 20.0;
+
+/// Default sample budget of one walk (`trace`, `svg`, each path of `path`,
+/// `bench`'s stepping rows): realizations computed. `--max-samples` changes it.
+pub const DEFAULT_MAX_SAMPLES: usize = 100_000;
+
+/// `svg` keeps at most this many trace points (about 64 MB in memory),
+/// whatever the sample budget; its traces end there, and it says so.
+pub const SVG_MAX_POINTS: usize = 4_000_000;
+
+/// `svg` leaves out a trace point closer than this (× the drawing's diagonal)
+/// to the last one drawn: under half a pixel at the SVG's 800-pixel width.
+pub const SVG_POINT_GAP_FRACTION: f64 = 5e-4;
+
+/// The terminal UI keeps at most this many numbers (positions and Cayley
+/// vectors) of the current motion, and at most [`TUI_MAX_SAMPLES`] samples.
+pub const TUI_MAX_NUMBERS: usize = 4_000_000;
+pub const TUI_MAX_SAMPLES: usize = 20_000;
+
+/// A walk that meets more than this many jumps in one segment (joints moving
+/// farther than the step between adjacent resolvable λ) is in a stretch where
+/// the realization is not resolved in f64: the rest of the segment is
+/// skipped as one marked jump instead of being crawled through float by float.
+pub const STEPPER_MAX_JUMPS_PER_SEGMENT: usize = 32;
+
+/// Two drawn points closer than this many units in the last place of their
+/// coordinates cannot be told apart by the drawing: the same point, however
+/// small the scene's scale (a resolution limit of f64, not a tolerance).
+pub const DRAWN_RESOLUTION_ULPS: f64 = 8.0;
+
+/// A lazy analysis walks further components on demand (`--component K`,
+/// `closest`, the UI's `n`) through the realizations at the drawn λ: at most
+/// this many prefixes of types are tried, and at most
+/// [`LAZY_MAX_NEW_COMPONENTS`] components walked, per request.
+pub const LAZY_SEED_PROBES: usize = 1 << 16;
+pub const LAZY_MAX_NEW_COMPONENTS: usize = 256;

@@ -130,7 +130,7 @@ fn motion_commands_through_the_binary() {
         caymos(&["trace", "jansen", "--joints", "F,K", "--step", "1", "--cayley", "--output", file.to_str().unwrap()]);
     assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
     let csv = std::fs::read_to_string(&file).unwrap();
-    assert!(csv.starts_with("index,lambda,type,F.x,F.y,K.x,K.y,P-X,"), "{}", csv.lines().next().unwrap());
+    assert!(csv.starts_with("index,lambda,type,jump,F.x,F.y,K.x,K.y,P-X,"), "{}", csv.lines().next().unwrap());
     assert!(csv.lines().count() > 50);
     std::fs::remove_file(&file).ok();
     // closest and svg.

@@ -276,6 +276,46 @@ fn joints_at_the_same_point_are_rejected() {
     assert_error("bars = [[\"A\", \"B\"]]\n[joints]\nA = [1e-300, 0]\nB = [1e-300, 0]\n", Some(4), &["same point"]);
 }
 
+/// Issue 10: "the same point" is relative to the scene's scale (its longest
+/// bar or body span), not to the drawing's extent, which a far-away joint
+/// can make as large as it likes.
+#[test]
+fn the_same_point_is_relative_to_the_scenes_scale() {
+    let four_bar_at = |x: f64, extra: &str| {
+        format!(
+            "bars = [[\"A\", \"B\"], [\"B\", \"C\"], [\"C\", \"D\"], [\"D\", \"A\"]]\n[joints]\nA = [{x:?}, 0.0]\nB = [{:?}, 3.0]\nC = [{:?}, 3.0]\nD = [{:?}, 0.0]\n{extra}",
+            x + 1.0,
+            x + 5.0,
+            x + 4.0
+        )
+    };
+    // Joints 4 apart at 1e13 with a joint at the origin: distinct (scale 5).
+    assert!(parse(&four_bar_at(1e13, "Far = [0.0, 0.0]\n")).is_ok());
+    // At a scale of 1e13 (a bar that long), 4 apart is below 1e-12 × scale.
+    let long =
+        "bars = [[\"A\", \"B\"], [\"B\", \"C\"]]\n[joints]\nA = [0.0, 0.0]\nB = [1e13, 0.0]\nC = [1.0e13, 4.0]\n";
+    assert_error(long, Some(5), &["joint \"C\" is drawn at the same point as joint \"B\""]);
+    // Below what the coordinates resolve (a few ulps), however small the scale.
+    assert_error(
+        "bars = [[\"A\", \"B\"]]\n[joints]\nA = [1.0, 0.0]\nB = [1.0000000000000002, 0.0]\n",
+        Some(4),
+        &["same point"],
+    );
+    // A tiny scene far from the origin: distinct when apart by many ulps.
+    assert!(parse(&four_bar_at(1e6, "")).is_ok());
+}
+
+#[test]
+fn a_blank_joint_name_is_called_blank() {
+    let error = assert_error(
+        "bars = [[\"A\", \"\\t\"]]\n[joints]\nA = [0, 0]\n\"\\t\" = [1, 0]\n",
+        Some(4),
+        &["only whitespace"],
+    );
+    assert!(error.message.contains("\"\\t\""), "{error}");
+    assert!(!error.message.contains("empty"), "{error}");
+}
+
 // ---------------------------------------------------------------------------
 // Errors: bars and bodies
 

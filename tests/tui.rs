@@ -150,11 +150,70 @@ fn a_scene_outside_the_class_is_shown_not_crashed_on() {
     assert!(a.model().is_none());
     press(&mut a, "]→ng1⏎abv?⎋");
     let mut t = Terminal::new(TestBackend::new(80, 24)).unwrap();
-    t.draw(|f| view::draw(f, &mut a, Theme { color: false })).unwrap();
+    t.draw(|f| view::draw(f, &a, Theme { color: false })).unwrap();
     let screen = format!("{}", t.backend());
     assert!(screen.contains("rigid"), "{screen}");
     press(&mut a, "q");
     assert!(a.quit);
+}
+
+/// Issue 10 item 1: a four-bar whose stated lengths cannot close.
+fn no_realization_scene() -> caymos::scene::Scene {
+    caymos::generate::four_bar(1.0, 10.0, 1.0, 1.0)
+}
+
+#[test]
+fn a_scene_with_no_realization_opens_on_why_and_no_key_crashes_it() {
+    let mut a = App::ready(analyse(no_realization_scene(), None).unwrap());
+    assert!(a.model().is_none());
+    assert!(matches!(a.screen, caymos::tui::app::Screen::Empty { .. }));
+    press(&mut a, "]→←LHng1⏎abc12⎋tjJvrx+-0?⎋");
+    let t = render(&a, 100, 30, Theme { color: false });
+    let screen = format!("{}", t.backend());
+    assert!(screen.contains("no realization"), "{screen}");
+    // The two steps on the base A–C and the lengths that fail them.
+    assert!(screen.contains("at least 9") && screen.contains("at most 2"), "{screen}");
+    assert!(screen.contains("A–B  1 / "), "stated lengths listed: {screen}");
+    press(&mut a, "q");
+    assert!(a.quit);
+}
+
+#[test]
+fn snapshot_no_realization_80x24() {
+    let a = App::ready(analyse(no_realization_scene(), None).unwrap());
+    insta::assert_snapshot!("no_realization_80x24", render(&a, 80, 24, Theme { color: false }).backend());
+}
+
+/// Issue 10 item 10: the λ readout has significant digits at any scale.
+#[test]
+fn the_readout_shows_significant_digits_at_tiny_scales() {
+    let mut scene = bundled::load("fourbar-non-grashof").unwrap();
+    for j in &mut scene.joints {
+        j.pos = [j.pos[0] * 1e-20, j.pos[1] * 1e-20];
+    }
+    for b in &mut scene.bars {
+        b.length = b.length.map(|l| l * 1e-20);
+    }
+    let a = App::ready(analyse(scene, None).unwrap());
+    let lambda = a.model().expect("analysed").lambda;
+    let screen = format!("{}", render(&a, 100, 30, Theme { color: false }).backend());
+    let shown = caymos::report::fmt_sig(lambda, 8);
+    assert!(shown.contains("e-20") && screen.contains(&shown), "{shown}: {screen}");
+}
+
+/// Issue 10 item 8: in a lazy analysis `n` walks the next component.
+#[test]
+fn next_component_walks_more_components_in_a_lazy_analysis() {
+    let mut a = App::ready(analyse(caymos::generate::chain(17), None).unwrap());
+    let m = a.model().unwrap();
+    assert!(m.solved.lazy);
+    assert_eq!(m.n_components(), 1);
+    press(&mut a, "n");
+    let m = a.model().unwrap();
+    assert_eq!(m.n_components(), 2, "{:?}", a.message);
+    assert_eq!(m.component, 1);
+    let screen = format!("{}", render(&a, 100, 30, Theme { color: false }).backend());
+    assert!(screen.contains("walked lazily"), "{screen}");
 }
 
 proptest! {
@@ -170,12 +229,12 @@ proptest! {
             let s = c.to_string();
             press(&mut a, &s);
             a.tick();
-            t.draw(|f| view::draw(f, &mut a, Theme { color: true })).unwrap();
+            t.draw(|f| view::draw(f, &a, Theme { color: true })).unwrap();
         }
     }
 }
 
-fn render(a: &mut App, w: u16, h: u16, theme: Theme) -> Terminal<TestBackend> {
+fn render(a: &App, w: u16, h: u16, theme: Theme) -> Terminal<TestBackend> {
     let mut t = Terminal::new(TestBackend::new(w, h)).unwrap();
     t.draw(|f| view::draw(f, a, theme)).unwrap();
     t
@@ -183,43 +242,43 @@ fn render(a: &mut App, w: u16, h: u16, theme: Theme) -> Terminal<TestBackend> {
 
 #[test]
 fn snapshot_linkage_view_80x24() {
-    let mut a = app("jansen");
-    insta::assert_snapshot!("jansen_linkage_80x24", render(&mut a, 80, 24, Theme { color: true }).backend());
+    let a = app("jansen");
+    insta::assert_snapshot!("jansen_linkage_80x24", render(&a, 80, 24, Theme { color: true }).backend());
 }
 
 #[test]
 fn snapshot_linkage_view_large_after_steps() {
     let mut a = app("limacon");
     press(&mut a, "]]LLL");
-    insta::assert_snapshot!("limacon_linkage_160x48", render(&mut a, 160, 48, Theme { color: true }).backend());
+    insta::assert_snapshot!("limacon_linkage_160x48", render(&a, 160, 48, Theme { color: true }).backend());
 }
 
 #[test]
 fn snapshot_cayley_curve_view() {
     let mut a = app("limacon");
     press(&mut a, "vrr");
-    insta::assert_snapshot!("limacon_curve_80x24", render(&mut a, 80, 24, Theme { color: true }).backend());
+    insta::assert_snapshot!("limacon_curve_80x24", render(&a, 80, 24, Theme { color: true }).backend());
 }
 
 #[test]
 fn snapshot_help_overlay() {
     let mut a = app("jansen");
     press(&mut a, "?");
-    insta::assert_snapshot!("help_80x24", render(&mut a, 80, 24, Theme { color: true }).backend());
-    insta::assert_snapshot!("help_160x48", render(&mut a, 160, 48, Theme { color: true }).backend());
+    insta::assert_snapshot!("help_80x24", render(&a, 80, 24, Theme { color: true }).backend());
+    insta::assert_snapshot!("help_160x48", render(&a, 160, 48, Theme { color: true }).backend());
 }
 
 #[test]
 fn snapshot_too_small() {
-    let mut a = app("jansen");
-    insta::assert_snapshot!("too_small_50x12", render(&mut a, 50, 12, Theme { color: true }).backend());
+    let a = app("jansen");
+    insta::assert_snapshot!("too_small_50x12", render(&a, 50, 12, Theme { color: true }).backend());
 }
 
 #[test]
 fn monochrome_theme_uses_no_colour_and_keeps_emphasis() {
     let mut a = app("jansen");
     press(&mut a, "]");
-    let t = render(&mut a, 80, 24, Theme { color: false });
+    let t = render(&a, 80, 24, Theme { color: false });
     let buf = t.backend().buffer();
     let mut emphasised = 0;
     for cell in buf.content() {
@@ -322,4 +381,67 @@ fn end_to_end_in_a_pseudo_terminal() {
         parser.process(&bytes);
     }
     assert!(!parser.screen().alternate_screen(), "terminal left in the alternate screen");
+}
+
+/// Issue 10 item 1: the real binary on a scene with no realization opens,
+/// draws why, and quits with exit status 0 (it used to panic, exit 101).
+#[test]
+fn a_scene_with_no_realization_in_a_pseudo_terminal() {
+    use portable_pty::{CommandBuilder, PtySize, native_pty_system};
+    use std::io::{Read, Write};
+    use std::sync::mpsc;
+    use std::time::{Duration, Instant};
+
+    let dir = std::env::temp_dir().join(format!("caymos-tui-empty-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("cannot-close.toml");
+    std::fs::write(&file, caymos::generate::to_toml(&no_realization_scene())).unwrap();
+    let pair = native_pty_system().openpty(PtySize { rows: 24, cols: 80, pixel_width: 0, pixel_height: 0 }).unwrap();
+    let mut cmd = CommandBuilder::new(env!("CARGO_BIN_EXE_caymos"));
+    cmd.arg(file.to_str().unwrap());
+    cmd.env("NO_COLOR", "1");
+    cmd.env("TERM", "xterm-256color");
+    let mut child = pair.slave.spawn_command(cmd).unwrap();
+    drop(pair.slave);
+    let mut reader = pair.master.try_clone_reader().unwrap();
+    let mut writer = pair.master.take_writer().unwrap();
+    let (tx, rx) = mpsc::channel::<Vec<u8>>();
+    std::thread::spawn(move || {
+        let mut buf = [0u8; 4096];
+        while let Ok(n) = reader.read(&mut buf) {
+            if n == 0 || tx.send(buf[..n].to_vec()).is_err() {
+                break;
+            }
+        }
+    });
+    let mut parser = vt100::Parser::new(24, 80, 0);
+    let deadline = Instant::now() + Duration::from_secs(20);
+    loop {
+        while let Ok(bytes) = rx.try_recv() {
+            parser.process(&bytes);
+        }
+        let screen = parser.screen().contents();
+        if screen.contains("no realization") && screen.contains("at least 9") {
+            break;
+        }
+        assert!(Instant::now() < deadline, "timed out; screen:\n{screen}");
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    // Keys that would walk or mark do nothing here; then quit.
+    writer.write_all(b"]ln ab1vq").unwrap();
+    writer.flush().unwrap();
+    let deadline = Instant::now() + Duration::from_secs(10);
+    let status = loop {
+        if let Some(status) = child.try_wait().unwrap() {
+            break status;
+        }
+        assert!(Instant::now() < deadline, "did not exit after q");
+        std::thread::sleep(Duration::from_millis(20));
+    };
+    assert!(status.success(), "exit status {status:?}");
+    while let Ok(bytes) = rx.recv_timeout(Duration::from_millis(200)) {
+        parser.process(&bytes);
+    }
+    assert!(!parser.screen().alternate_screen(), "terminal left in the alternate screen");
+    std::fs::remove_dir_all(&dir).ok();
 }

@@ -2,10 +2,12 @@
 //! terminal here, so every behaviour is testable with a list of key presses.
 
 use crate::analysis::{Analysis, Solved};
-use crate::commands::{self, PathReport};
+use crate::commands::{self, PathReport, Walk};
 use crate::distance::cayley_vector;
 use crate::motion::{Realization, Segment, Stepper, arcs, component_segments, locate, realization_at};
 use crate::realize::{P2, RealizationType};
+use crate::report::fmt_num;
+use crate::tolerance;
 
 use super::keymap::Action;
 
@@ -45,6 +47,8 @@ pub struct Model {
     pub component: usize,
     /// Geometric step (largest joint move per small step), scene units.
     pub step: f64,
+    /// The drawing's extent (bounding-box diagonal): the unit of steps.
+    pub extent: f64,
     pub playing: bool,
     pub marks: [Option<Mark>; 2],
     pub path: Option<PathReport>,
@@ -58,18 +62,25 @@ pub struct Model {
     pub pitch: f64,
     /// Indices into the complete Cayley vector used as the curve's axes.
     pub axes: [usize; 3],
-    /// Cached samples of the current motion: positions and Cayley vectors.
+    /// Samples of the current motion: positions and Cayley vectors, kept in
+    /// step with `segments` by every update (drawing only reads them).
     pub cache: Option<MotionSamples>,
+    /// Bumped whenever `segments` change, so the cache knows it is stale.
+    generation: u64,
     /// Joints' bounding box over the current component's motion, for a steady view.
     pub bounds: [f64; 4],
 }
 
 /// Samples of the current motion (for traces and the Cayley curve).
 pub struct MotionSamples {
-    pub key: (Motion, usize),
+    pub generation: u64,
     pub positions: Vec<Vec<P2<f64>>>,
     pub cayley: Vec<Vec<f64>>,
     pub types: Vec<RealizationType>,
+    /// Whether each sample is reached by a jump (drawn lines break there).
+    pub jumps: Vec<bool>,
+    /// The motion was longer than the sample budget: only its start is shown.
+    pub truncated: bool,
 }
 
 /// The whole UI state.
@@ -82,6 +93,11 @@ pub enum Screen {
     Failed {
         scene: String,
         message: String,
+    },
+    /// In the class, but with no realization to explore: the drawing, and why.
+    Empty {
+        analysis: Box<Analysis>,
+        why: String,
     },
     Ready(Box<Model>),
 }
@@ -120,7 +136,10 @@ impl App {
                     let message = format!("outside the handled class: {}", outside.describe(&a.linkage));
                     Screen::Failed { scene: a.scene.name.clone(), message }
                 }
-                Ok(solved) => Screen::Ready(Box::new(Model::new(a, solved))),
+                Ok(solved) => match commands::no_realization(&a, &solved) {
+                    Some(why) => Screen::Empty { analysis: Box::new(a), why },
+                    None => Screen::Ready(Box::new(Model::new(a, solved))),
+                },
             },
         };
     }
@@ -156,14 +175,13 @@ impl App {
         self.message = None;
         match action {
             Action::GoTo => self.input = Some(String::new()),
-            other => {
-                if let Err(e) = m.apply(other) {
-                    self.message = Some(e);
-                } else if let Some(note) = m.note_for(other) {
-                    self.message = Some(note);
-                }
-            }
+            other => match m.apply(other) {
+                Err(e) => self.message = Some(e),
+                Ok(Some(note)) => self.message = Some(note),
+                Ok(None) => self.message = m.note_for(other),
+            },
         }
+        m.sync_samples();
     }
 
     /// A character typed while the `g` prompt is open; Enter applies it.
@@ -184,6 +202,7 @@ impl App {
         let Some(text) = self.input.take() else { return };
         if let Screen::Ready(m) = &mut self.screen {
             self.message = m.go_to(text.trim()).err();
+            m.sync_samples();
         }
     }
 
@@ -191,9 +210,12 @@ impl App {
     pub fn tick(&mut self) {
         if let Screen::Ready(m) = &mut self.screen
             && m.playing
-            && m.move_by(1, m.step).is_err()
         {
-            m.playing = false;
+            match m.move_by(1, m.step) {
+                Ok(None) => {}
+                Ok(Some(note)) => self.message = Some(note),
+                Err(_) => m.playing = false,
+            }
         }
     }
 
@@ -205,7 +227,8 @@ impl App {
 impl Model {
     pub fn new(analysis: Analysis, solved: Solved) -> Model {
         let n = analysis.linkage.n_joints();
-        let step = analysis.linkage.scale / 60.0;
+        let extent = commands::drawing_extent(&analysis);
+        let step = tolerance::TUI_STEP_FRACTION * extent;
         let mut traced = vec![false; n];
         if let Some(last) = traced.last_mut() {
             *last = true; // the last joint is usually the coupler point or the foot
@@ -222,6 +245,7 @@ impl Model {
             positions: Vec::new(),
             component: 0,
             step,
+            extent,
             playing: false,
             marks: [None, None],
             path: None,
@@ -234,9 +258,11 @@ impl Model {
             pitch: 0.35,
             axes,
             cache: None,
+            generation: 0,
             bounds: [0.0; 4],
         };
         m.reset();
+        m.sync_samples();
         m
     }
 
@@ -279,6 +305,7 @@ impl Model {
         self.motion = Motion::Component(k);
         self.component = k;
         self.segments = component_segments(&self.solved.space, &self.solved.components.list[k]);
+        self.generation += 1;
         let (seg, lambda) = at
             .and_then(|(i, l)| self.segments.iter().position(|s| s.interval == i).map(|p| (p, l)))
             .unwrap_or((0, self.segments[0].from));
@@ -332,19 +359,25 @@ impl Model {
         out
     }
 
-    /// Move by one geometric step of at most `bound` along the motion.
-    pub fn move_by(&mut self, dir: i8, bound: f64) -> Result<(), String> {
+    /// Move by one geometric step of at most `bound` along the motion. A
+    /// move across a degenerate pass (a jump) is made and said.
+    pub fn move_by(&mut self, dir: i8, bound: f64) -> Result<Option<String>, String> {
         let ahead = self.ahead(dir);
         let segs: Vec<Segment> = ahead.iter().map(|(_, s)| s.clone()).collect();
         let a = &self.analysis;
-        let mut walk = Stepper::new(&self.solved.construction, &a.linkage, segs, bound);
+        let mut walk = Stepper::new(&self.solved.construction, &a.linkage, segs, bound).with_budget(2);
         walk.next();
         match walk.next() {
             Some(sample) => {
                 self.seg = ahead[sample.segment].0;
                 self.lambda = sample.lambda;
                 self.positions = sample.positions;
-                Ok(())
+                Ok(sample.jump.then(|| {
+                    format!(
+                        "jumped at λ = {}: a degenerate pass (joints move farther than the step between adjacent λ)",
+                        fmt_num(sample.lambda)
+                    )
+                }))
             }
             None => Err("end of the path: press 1/2 to walk it again, Esc for the whole component".into()),
         }
@@ -359,16 +392,25 @@ impl Model {
         Ok(())
     }
 
-    fn apply(&mut self, action: Action) -> Result<(), String> {
+    /// Apply an action; `Ok(Some(note))` when it has something to say.
+    fn apply(&mut self, action: Action) -> Result<Option<String>, String> {
         match action {
-            Action::StepForward => self.move_by(1, self.step)?,
-            Action::StepBack => self.move_by(-1, self.step)?,
-            Action::LargeForward => self.move_by(1, self.step * 10.0)?,
-            Action::LargeBack => self.move_by(-1, self.step * 10.0)?,
+            Action::StepForward => return self.move_by(1, self.step),
+            Action::StepBack => return self.move_by(-1, self.step),
+            Action::LargeForward => return self.move_by(1, self.step * 10.0),
+            Action::LargeBack => return self.move_by(-1, self.step * 10.0),
             Action::NextEndpoint => self.jump(1)?,
             Action::PrevEndpoint => self.jump(-1)?,
             Action::PlayPause => self.playing = !self.playing,
             Action::NextComponent | Action::PrevComponent => {
+                // A lazy analysis walks the next component when asked for it.
+                let mut note = None;
+                if action == Action::NextComponent && self.solved.lazy && self.component + 1 == self.n_components() {
+                    let before = self.n_components();
+                    if commands::walk_components(&mut self.solved, before + 1) == before {
+                        note = Some(commands::missing_component(&self.solved, before));
+                    }
+                }
                 let n = self.n_components();
                 let k = if action == Action::NextComponent {
                     (self.component + 1) % n
@@ -376,6 +418,7 @@ impl Model {
                     (self.component + n - 1) % n
                 };
                 self.enter_component(k, None);
+                return Ok(note);
             }
             Action::MarkA | Action::MarkB => {
                 let slot = usize::from(action == Action::MarkB);
@@ -404,6 +447,7 @@ impl Model {
                     ));
                 }
                 self.segments = arcs[arc].clone();
+                self.generation += 1;
                 self.motion = Motion::Path { arc };
                 self.component = self.solved.components.of_interval[self.segments[0].interval];
                 self.seg = 0;
@@ -447,12 +491,12 @@ impl Model {
                     self.axes = t;
                 }
             }
-            Action::StepBigger => self.step = (self.step * 2.0).min(self.analysis.linkage.scale),
-            Action::StepSmaller => self.step = (self.step / 2.0).max(self.analysis.linkage.scale * 1e-6),
+            Action::StepBigger => self.step = (self.step * 2.0).min(self.extent),
+            Action::StepSmaller => self.step = (self.step / 2.0).max(self.extent * 1e-6),
             Action::Reset => self.reset(),
             Action::GoTo | Action::Help | Action::Quit => {}
         }
-        Ok(())
+        Ok(None)
     }
 
     /// A status line after some actions.
@@ -465,14 +509,18 @@ impl Model {
                 }
                 ([Some(_), Some(_)], Some(p)) => match &p.closest_pair {
                     Some(c) => format!(
-                        "different components: closest pair {}@{:.4} / {}@{:.4} at Cayley distance {:.4e}",
-                        c.a.ty, c.a.lambda, c.b.ty, c.b.lambda, c.distance
+                        "different components: closest pair {}@{} / {}@{} at Cayley distance {}",
+                        c.a.ty,
+                        fmt_num(c.a.lambda),
+                        c.b.ty,
+                        fmt_num(c.b.lambda),
+                        fmt_num(c.distance)
                     ),
                     None => "different components".into(),
                 },
                 _ => format!("marked {}", if action == Action::MarkA { "A" } else { "B" }),
             }),
-            Action::StepBigger | Action::StepSmaller => Some(format!("step {:.4}", self.step)),
+            Action::StepBigger | Action::StepSmaller => Some(format!("step {}", fmt_num(self.step))),
             _ => None,
         }
     }
@@ -482,7 +530,8 @@ impl Model {
         self.path_arcs = None;
         let [Some(a), Some(b)] = &self.marks else { return Ok(()) };
         let (an, s) = (&self.analysis, &self.solved);
-        let report = commands::path(an, s, &a.at.to_string(), &b.at.to_string(), self.step)?;
+        let walk = Walk { step: self.step, max_samples: tolerance::TUI_MAX_SAMPLES };
+        let report = commands::path(an, s, &a.at.to_string(), &b.at.to_string(), walk)?;
         if report.same_component {
             let ia = locate(&s.space, &a.at, an.linkage.scale).ok_or("A is no longer located")?;
             let ib = locate(&s.space, &b.at, an.linkage.scale).ok_or("B is no longer located")?;
@@ -526,26 +575,27 @@ impl Model {
         }
     }
 
-    /// Samples of the current motion for traces and the Cayley curve (cached).
-    pub fn samples(&mut self) -> &MotionSamples {
-        let key = (self.motion.clone(), self.component);
-        if self.cache.as_ref().is_none_or(|c| c.key != key) {
-            let a = &self.analysis;
-            let bound = a.linkage.scale / 150.0;
-            let mut positions = Vec::new();
-            let mut cayley = Vec::new();
-            let mut types = Vec::new();
-            // Keep a motion's samples to a few million numbers on huge scenes.
-            let per_sample = a.linkage.n_joints() + self.solved.complexity.ccv.len();
-            let limit = (4_000_000 / per_sample.max(1)).clamp(500, 20_000);
-            for sm in Stepper::new(&self.solved.construction, &a.linkage, self.segments.clone(), bound).take(limit) {
-                cayley.push(cayley_vector(&sm.positions, &self.solved.complexity.ccv));
-                types.push(sm.ty);
-                positions.push(sm.positions);
-            }
-            self.cache = Some(MotionSamples { key, positions, cayley, types });
+    /// Bring the samples of the current motion (traces, Cayley curve) up to
+    /// date: walked within the UI's budgets, at most a few million numbers.
+    pub fn sync_samples(&mut self) {
+        if self.cache.as_ref().is_some_and(|c| c.generation == self.generation) {
+            return;
         }
-        self.cache.as_ref().expect("just filled")
+        let a = &self.analysis;
+        let bound = tolerance::TUI_TRACE_STEP_FRACTION * self.extent;
+        let per_sample = a.linkage.n_joints() + self.solved.complexity.ccv.len();
+        let limit = (tolerance::TUI_MAX_NUMBERS / per_sample.max(1)).clamp(2, tolerance::TUI_MAX_SAMPLES);
+        let mut walk =
+            Stepper::new(&self.solved.construction, &a.linkage, self.segments.clone(), bound).with_budget(limit);
+        let (mut positions, mut cayley, mut types, mut jumps) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        for sm in walk.by_ref() {
+            cayley.push(cayley_vector(&sm.positions, &self.solved.complexity.ccv));
+            types.push(sm.ty);
+            jumps.push(sm.jump);
+            positions.push(sm.positions);
+        }
+        let truncated = walk.summary().truncated;
+        self.cache = Some(MotionSamples { generation: self.generation, positions, cayley, types, jumps, truncated });
     }
 
     /// Bounding box [x0, y0, x1, y1] of every joint over the current component (coarse walk).
@@ -560,8 +610,9 @@ impl Model {
         };
         self.positions.iter().for_each(&mut add);
         let segs = component_segments(&self.solved.space, &self.solved.components.list[self.component]);
-        let limit = (2_000_000 / a.linkage.n_joints().max(1)).clamp(200, 5000);
-        for sm in Stepper::new(&self.solved.construction, &a.linkage, segs, a.linkage.scale / 20.0).take(limit) {
+        let limit = (tolerance::TUI_MAX_NUMBERS / 2 / a.linkage.n_joints().max(1)).clamp(2, 5000);
+        let bound = tolerance::TUI_BOUNDS_STEP_FRACTION * self.extent;
+        for sm in Stepper::new(&self.solved.construction, &a.linkage, segs, bound).with_budget(limit) {
             sm.positions.iter().for_each(&mut add);
         }
         b

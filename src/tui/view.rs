@@ -11,13 +11,15 @@ use ratatui::widgets::{Block, Clear, Paragraph, Wrap};
 use super::app::{App, Model, Motion, Screen, View};
 use super::keymap::BINDINGS;
 use super::theme::Theme;
-use crate::report::fmt_num;
+use crate::analysis::Analysis;
+use crate::report::{fmt_num, fmt_sig};
 
 /// The smallest terminal the layout works in.
 pub const MIN_WIDTH: u16 = 60;
 pub const MIN_HEIGHT: u16 = 18;
 
-pub fn draw(frame: &mut Frame, app: &mut App, theme: Theme) {
+/// Draw the whole screen from the state; nothing here changes it.
+pub fn draw(frame: &mut Frame, app: &App, theme: Theme) {
     let area = frame.area();
     if area.width < MIN_WIDTH || area.height < MIN_HEIGHT {
         let text = format!(
@@ -31,7 +33,7 @@ pub fn draw(frame: &mut Frame, app: &mut App, theme: Theme) {
     }
     let [body, status, keys] =
         Layout::vertical([Constraint::Min(8), Constraint::Length(1), Constraint::Length(1)]).areas(area);
-    match &mut app.screen {
+    match &app.screen {
         Screen::Loading { scene } => {
             let p =
                 Paragraph::new(format!("analysing {scene} …")).alignment(Alignment::Center).block(Block::bordered());
@@ -47,6 +49,7 @@ pub fn draw(frame: &mut Frame, app: &mut App, theme: Theme) {
             .block(Block::bordered().title(Span::styled(" caymos ", theme.title())));
             frame.render_widget(p, body);
         }
+        Screen::Empty { analysis, why } => draw_empty(frame, analysis, why, body, theme),
         Screen::Ready(m) => draw_model(frame, m, body, theme),
     }
     draw_status(frame, app, status, theme);
@@ -56,7 +59,89 @@ pub fn draw(frame: &mut Frame, app: &mut App, theme: Theme) {
     }
 }
 
-fn draw_model(frame: &mut Frame, m: &mut Model, area: Rect, theme: Theme) {
+/// A scene in the class with no realization: the drawing, why there is
+/// nothing to explore, and every bar's length (stated ones marked).
+fn draw_empty(frame: &mut Frame, a: &Analysis, why: &str, area: Rect, theme: Theme) {
+    let side = if area.width >= 120 { 52 } else { 36 };
+    let [main, right] = Layout::horizontal([Constraint::Min(20), Constraint::Length(side)]).areas(area);
+    let l = &a.linkage;
+    // Drawn in units of the drawing's extent about its centre, so any scale draws.
+    let pos = normalised(&l.drawn);
+    let mut b = [f64::INFINITY, f64::INFINITY, f64::NEG_INFINITY, f64::NEG_INFINITY];
+    for p in &pos {
+        b = [b[0].min(p[0]), b[1].min(p[1]), b[2].max(p[0]), b[3].max(p[1])];
+    }
+    let (xb, yb) = equal_bounds(b, main);
+    let title = Line::from(vec![
+        Span::styled(format!(" {} ", a.scene.name), theme.title()),
+        Span::styled("· the drawing (no realization) ", theme.dim()),
+    ]);
+    let canvas = braille(title, xb, yb, |ctx| {
+        for bar in &l.bars {
+            let (p, q) = (pos[bar.joints[0]], pos[bar.joints[1]]);
+            ctx.draw(&Segment2::new(p[0], p[1], q[0], q[1], theme.bar()));
+        }
+        for body in &l.bodies {
+            for (i, &j) in body.iter().enumerate() {
+                let k = body[(i + 1) % body.len()];
+                ctx.draw(&Segment2::new(pos[j][0], pos[j][1], pos[k][0], pos[k][1], theme.bar()));
+            }
+        }
+        ctx.layer();
+        let tick = (xb[1] - xb[0]) * 0.015;
+        for (j, p) in pos.iter().enumerate() {
+            ctx.print(p[0] + tick * 0.5, p[1], Line::styled(l.names[j].clone(), Style::default().fg(theme.joint())));
+        }
+    });
+    frame.render_widget(canvas, main);
+    let mut lines = vec![
+        Line::styled("nothing to explore", theme.warn()),
+        Line::raw(""),
+        Line::raw(why.to_string()),
+        Line::raw(""),
+        Line::styled("bar lengths (stated / drawn)", theme.dim()),
+    ];
+    // As many bars as fit under the (wrapped) explanation; the rest counted.
+    let inner = usize::from(right.width.saturating_sub(2)).max(1);
+    let why_rows = why.chars().count().div_ceil(inner) + 1;
+    let room = usize::from(right.height.saturating_sub(2)).saturating_sub(4 + why_rows);
+    let n = l.bars.len();
+    let shown = if n <= room { n } else { room.saturating_sub(1) };
+    for (bar, sb) in l.bars.iter().zip(&a.scene.bars).take(shown) {
+        let drawn = bar.length - bar.sketch_error;
+        let text = match sb.length {
+            Some(stated) => format!("{}  {} / {}", l.pair_name(bar.joints), fmt_num(stated), fmt_num(drawn)),
+            None => format!("{}  {} (drawn)", l.pair_name(bar.joints), fmt_num(drawn)),
+        };
+        lines.push(Line::raw(text));
+    }
+    if shown < n {
+        lines.push(Line::styled(format!("… and {} more bars (caymos report lists them)", n - shown), theme.dim()));
+    }
+    let p = Paragraph::new(lines)
+        .wrap(Wrap { trim: true })
+        .block(Block::bordered().title(Span::styled(" no realization ", theme.title())));
+    frame.render_widget(p, right);
+}
+
+/// Points relative to their bounding box's centre, in units of its diagonal
+/// (halved arithmetic keeps drawings near ±f64::MAX finite).
+fn normalised(points: &[[f64; 2]]) -> Vec<[f64; 2]> {
+    let d = crate::motion::bounding_diagonal(points);
+    let unit = if d > 0.0 && d.is_finite() { d } else { 1.0 };
+    let mut lo = [f64::INFINITY; 2];
+    let mut hi = [f64::NEG_INFINITY; 2];
+    for p in points {
+        for axis in 0..2 {
+            lo[axis] = lo[axis].min(p[axis]);
+            hi[axis] = hi[axis].max(p[axis]);
+        }
+    }
+    let centre = [lo[0] / 2.0 + hi[0] / 2.0, lo[1] / 2.0 + hi[1] / 2.0];
+    points.iter().map(|p| [(p[0] - centre[0]) / unit, (p[1] - centre[1]) / unit]).collect()
+}
+
+fn draw_model(frame: &mut Frame, m: &Model, area: Rect, theme: Theme) {
     let side = if area.width >= 120 { 38 } else { 30 };
     let max_rows = (area.height / 3).max(4);
     let comp_rows = m.solved.components.list[m.component].intervals.len() as u16;
@@ -117,21 +202,26 @@ fn motion_label(m: &Model) -> String {
     }
 }
 
-fn draw_linkage(frame: &mut Frame, m: &mut Model, area: Rect, theme: Theme) {
+/// " · traces cut at the sample budget" when the current motion's samples were cut.
+fn cut_note(m: &Model) -> &'static str {
+    if m.cache.as_ref().is_some_and(|c| c.truncated) { "· traces cut at the sample budget " } else { "" }
+}
+
+fn draw_linkage(frame: &mut Frame, m: &Model, area: Rect, theme: Theme) {
     let (xb, yb) = equal_bounds(m.bounds, area);
-    let traces: Vec<(usize, Vec<(f64, f64)>)> = if m.traces_on {
-        let traced: Vec<usize> = (0..m.traced.len()).filter(|&j| m.traced[j]).collect();
-        let s = m.samples();
-        traced.iter().map(|&j| (j, s.positions.iter().map(|p| (p[j][0], p[j][1])).collect())).collect()
-    } else {
-        Vec::new()
+    let traces: Vec<(usize, Vec<(f64, f64)>)> = match (&m.cache, m.traces_on) {
+        (Some(s), true) => {
+            let traced: Vec<usize> = (0..m.traced.len()).filter(|&j| m.traced[j]).collect();
+            traced.iter().map(|&j| (j, s.positions.iter().map(|p| (p[j][0], p[j][1])).collect())).collect()
+        }
+        _ => Vec::new(),
     };
     let l = &m.analysis.linkage;
     let pos = &m.positions;
     let ccv = &m.solved.complexity.ccv;
     let title = Line::from(vec![
         Span::styled(format!(" {} ", m.analysis.scene.name), theme.title()),
-        Span::styled(format!("· {} ", motion_label(m)), theme.dim()),
+        Span::styled(format!("· {} {}", motion_label(m), cut_note(m)), theme.dim()),
     ]);
     let canvas = braille(title, xb, yb, |ctx| {
         for (k, (_, t)) in traces.iter().enumerate() {
@@ -169,13 +259,21 @@ fn draw_linkage(frame: &mut Frame, m: &mut Model, area: Rect, theme: Theme) {
     frame.render_widget(canvas, area);
 }
 
-fn draw_curve(frame: &mut Frame, m: &mut Model, area: Rect, theme: Theme) {
+fn draw_curve(frame: &mut Frame, m: &Model, area: Rect, theme: Theme) {
     let axes = m.axes;
     let (yaw, pitch) = (m.yaw, m.pitch);
     let current = m.cayley_vector();
     let ccv_names: Vec<String> = m.solved.complexity.ccv.iter().map(|&p| m.analysis.linkage.pair_name(p)).collect();
     let mirror = crate::distance::mirror_images_exist(&m.solved.construction, &m.solved.dec);
-    let s = m.samples();
+    let empty = super::app::MotionSamples {
+        generation: 0,
+        positions: Vec::new(),
+        cayley: Vec::new(),
+        types: Vec::new(),
+        jumps: Vec::new(),
+        truncated: false,
+    };
+    let s = m.cache.as_ref().unwrap_or(&empty);
     let pick = |v: &[f64]| axes.map(|a| v.get(a).copied().unwrap_or(0.0));
     let mut lo = [f64::INFINITY; 3];
     let mut hi = [f64::NEG_INFINITY; 3];
@@ -197,13 +295,14 @@ fn draw_curve(frame: &mut Frame, m: &mut Model, area: Rect, theme: Theme) {
     };
     let mut types: Vec<&crate::realize::RealizationType> = Vec::new();
     let mut runs: Vec<(usize, Vec<(f64, f64)>)> = Vec::new();
-    for (v, ty) in s.cayley.iter().zip(&s.types) {
+    for ((v, ty), &jump) in s.cayley.iter().zip(&s.types).zip(&s.jumps) {
         let k = types.iter().position(|t| *t == ty).unwrap_or_else(|| {
             types.push(ty);
             types.len() - 1
         });
+        // A new run at a type change, and at a jump (no line across it).
         match runs.last_mut() {
-            Some((kk, pts)) if *kk == k => pts.push(project(v)),
+            Some((kk, pts)) if *kk == k && !jump => pts.push(project(v)),
             _ => runs.push((k, vec![project(v)])),
         }
     }
@@ -212,7 +311,7 @@ fn draw_curve(frame: &mut Frame, m: &mut Model, area: Rect, theme: Theme) {
     let names: Vec<&str> = axes.iter().map(|&a| ccv_names.get(a).map_or("-", String::as_str)).collect();
     let title = Line::from(vec![
         Span::styled(" Cayley curve ", theme.title()),
-        Span::styled(format!("{} · {} ", names.join(" × "), motion_label(m)), theme.dim()),
+        Span::styled(format!("{} · {} {}", names.join(" × "), motion_label(m), cut_note(m)), theme.dim()),
         Span::styled(if mirror { "(stands for a mirror pair) " } else { "" }, theme.dim()),
     ]);
     let canvas = braille(title, xb, yb, |ctx| {
@@ -248,7 +347,7 @@ fn draw_readout(frame: &mut Frame, m: &Model, area: Rect, theme: Theme) {
             .join(", ")
     };
     let mut lines = vec![
-        Line::from(vec![Span::raw("λ    "), Span::styled(format!("{:.6}", here.lambda), theme.highlight())]),
+        Line::from(vec![Span::raw("λ    "), Span::styled(fmt_sig(here.lambda, 8), theme.highlight())]),
         Line::from(ty_spans),
         Line::raw(format!("flat {flat_text}")),
         Line::raw(format!("step {}{}", fmt_num(m.step), if m.playing { "  ▶ playing" } else { "" })),
@@ -256,10 +355,7 @@ fn draw_readout(frame: &mut Frame, m: &Model, area: Rect, theme: Theme) {
     let v = m.cayley_vector();
     for (k, &[p, q]) in m.solved.complexity.ccv.iter().enumerate() {
         let name = format!("{}–{}", l.names[p], l.names[q]);
-        lines.push(Line::from(vec![
-            Span::styled(format!("{name:<10}"), theme.dim()),
-            Span::raw(format!("{:.4}", v[k])),
-        ]));
+        lines.push(Line::from(vec![Span::styled(format!("{name:<10}"), theme.dim()), Span::raw(fmt_sig(v[k], 6))]));
     }
     let p = Paragraph::new(lines).block(Block::bordered().title(Span::styled(" realization ", theme.title())));
     frame.render_widget(p, area);
@@ -292,7 +388,11 @@ fn draw_components(frame: &mut Frame, m: &Model, area: Rect, theme: Theme) {
             Line::styled(text, if here { theme.highlight() } else { theme.text() })
         })
         .collect();
-    let title = Span::styled(format!(" components ({n}) "), theme.title());
+    let title = if s.lazy {
+        Span::styled(format!(" components ({n} walked lazily; n walks more) "), theme.title())
+    } else {
+        Span::styled(format!(" components ({n}) "), theme.title())
+    };
     frame.render_widget(Paragraph::new(lines).block(Block::bordered().title(title)), area);
 }
 
@@ -395,13 +495,15 @@ fn draw_status(frame: &mut Frame, app: &App, area: Rect, theme: Theme) {
     frame.render_widget(Paragraph::new(line), area);
 }
 
-fn draw_keys(frame: &mut Frame, _app: &App, area: Rect, theme: Theme) {
+fn draw_keys(frame: &mut Frame, app: &App, area: Rect, theme: Theme) {
     let mut spans = Vec::new();
     let mut used = 0usize;
     // Help and quit first, so they show however narrow the terminal.
     let first =
         |b: &&super::keymap::Binding| !matches!(b.action, super::keymap::Action::Help | super::keymap::Action::Quit);
-    let mut bar: Vec<&super::keymap::Binding> = BINDINGS.iter().filter(|b| !b.bar.is_empty()).collect();
+    // Without a scene to explore only help and quit do anything.
+    let useful = |b: &&super::keymap::Binding| !first(b) || app.model().is_some();
+    let mut bar: Vec<&super::keymap::Binding> = BINDINGS.iter().filter(|b| !b.bar.is_empty()).filter(useful).collect();
     bar.sort_by_key(first);
     for b in bar {
         let short = b.bar;
