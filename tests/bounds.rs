@@ -125,7 +125,8 @@ fn peaucellier_marks_its_degenerate_pass_at_lambda_2() {
     // P is undetermined there. A component either ends there (a dead end: it
     // is open, and its walk stops at λ = 2) or its walk marks the pass.
     let report =
-        serde_json::from_slice::<serde_json::Value>(&caymos(&["report", "peaucellier", "--format", "json"]).stdout).unwrap();
+        serde_json::from_slice::<serde_json::Value>(&caymos(&["report", "peaucellier", "--format", "json"]).stdout)
+            .unwrap();
     let components = report["components"].as_array().unwrap().clone();
     let mut ends_or_marks_at_2 = 0;
     for (k, c) in components.iter().enumerate() {

@@ -284,10 +284,13 @@ P = [2.9768057828522245, 1.9648477286880386]
     }
 }
 
-/// Rotating, translating, renaming and mirroring a scene: the same Cayley
-/// space; a mirror flips every orientation bit.
-fn transformed(scene: &Scene, angle: f64, shift: [f64; 2], mirror: bool) -> Scene {
+/// Rotating, translating, renaming, reordering and mirroring a scene: the
+/// same Cayley space; a mirror flips every orientation bit.
+fn transformed(scene: &Scene, angle: f64, shift: [f64; 2], mirror: bool, reorder: bool) -> Scene {
     let mut t = scene.clone();
+    if reorder {
+        reversed(&mut t);
+    }
     let (c, s) = (angle.cos(), angle.sin());
     for j in &mut t.joints {
         let [x, y] = j.pos;
@@ -296,6 +299,22 @@ fn transformed(scene: &Scene, angle: f64, shift: [f64; 2], mirror: bool) -> Scen
         j.name = format!("{}'", j.name);
     }
     t
+}
+
+/// The joints listed in reverse order, bars, bodies, base and ground renumbered.
+fn reversed(t: &mut Scene) {
+    let n = t.joints.len();
+    let renumber = |j: usize| n - 1 - j;
+    t.joints.reverse();
+    for bar in &mut t.bars {
+        bar.joints = bar.joints.map(renumber);
+    }
+    t.bars.reverse();
+    t.base = t.base.map(|(b, line)| (b.map(renumber), line));
+    t.ground = t.ground.iter().map(|&g| renumber(g)).collect();
+    for body in &mut t.bodies {
+        body.joints = body.joints.iter().map(|&j| renumber(j)).collect();
+    }
 }
 
 proptest! {
@@ -309,7 +328,7 @@ proptest! {
     #[test]
     fn scaling_and_moving_change_nothing_but_what_they_must(
         seed in any::<u64>(), steps in 1usize..5, e in prop::sample::select(vec![-150i32, -9, -3, 3, 9, 150]),
-        angle in 0.0f64..std::f64::consts::TAU, mirror in any::<bool>()
+        angle in 0.0f64..std::f64::consts::TAU, mirror in any::<bool>(), reorder in any::<bool>()
     ) {
         let scene = random_linkage(seed, steps, 0.3);
         let (_, s) = solve(scene.clone());
@@ -318,16 +337,24 @@ proptest! {
         for j in &mut scaled.joints {
             j.pos = j.pos.map(|x| x * f);
         }
-        let (_, t) = solve(transformed(&scaled, angle, [0.3 * f, -1.7 * f], mirror));
+        let (_, t) = solve(transformed(&scaled, angle, [0.3 * f, -1.7 * f], mirror, reorder));
         prop_assert_eq!(t.components.list.len(), s.components.list.len());
         prop_assert_eq!(t.space.intervals.len(), s.space.intervals.len());
+        // Reordering the joints may reorder the construction steps, so types
+        // are compared only when the order is kept; a mirror flips every bit.
         let flip = |ty: &str| -> String {
-            if mirror { ty.chars().map(|c| if c == '+' { '-' } else { '+' }).collect() } else { ty.to_string() }
+            if reorder {
+                String::new()
+            } else if mirror {
+                ty.chars().map(|c| if c == '+' { '-' } else { '+' }).collect()
+            } else {
+                ty.to_string()
+            }
         };
         let mut want: Vec<(String, f64, f64)> = s.space.intervals.iter().map(|iv| (flip(&iv.ty.to_string()), iv.lower.lambda, iv.upper.lambda)).collect();
-        want.sort_by(|a, b| a.0.cmp(&b.0).then(a.1.total_cmp(&b.1)));
-        let mut got: Vec<(String, f64, f64)> = t.space.intervals.iter().map(|iv| (iv.ty.to_string(), iv.lower.lambda / f, iv.upper.lambda / f)).collect();
-        got.sort_by(|a, b| a.0.cmp(&b.0).then(a.1.total_cmp(&b.1)));
+        want.sort_by(|a, b| a.0.cmp(&b.0).then(a.1.total_cmp(&b.1)).then(a.2.total_cmp(&b.2)));
+        let mut got: Vec<(String, f64, f64)> = t.space.intervals.iter().map(|iv| (if reorder { String::new() } else { iv.ty.to_string() }, iv.lower.lambda / f, iv.upper.lambda / f)).collect();
+        got.sort_by(|a, b| a.0.cmp(&b.0).then(a.1.total_cmp(&b.1)).then(a.2.total_cmp(&b.2)));
         for (g, w) in got.iter().zip(&want) {
             prop_assert_eq!(&g.0, &w.0);
             prop_assert!((g.1 - w.1).abs() <= 1e-9 * s.construction.scale, "{} vs {}", g.1, w.1);
@@ -339,14 +366,18 @@ proptest! {
     /// events, tiny intervals, parallelograms, kites and rhombi.
     #[test]
     fn full_and_lazy_agree_on_hard_four_bar_families(
-        e in 9i32..=15, family in 0usize..4, a in 0.5f64..2.0, b in 2.5f64..4.0
+        e in 9i32..=15, family in 0usize..8, a in 0.5f64..2.0, b in 2.5f64..4.0
     ) {
         let delta = 10f64.powi(-e);
         let (ab, bc, cd, da) = match family {
             0 => (a, b, b - a + 0.5, 1.0 + 0.5 + b - a + delta),   // near-coincident folds
             1 => (a, b, a, b + delta),                              // near-parallelogram
             2 => (a, a * (1.0 + delta), b, b),                      // near-kite
-            _ => (1.0, 2.0, 1.0, 4.0 - delta * 4.0),                // tiny interval
+            3 => (1.0, 2.0, 1.0, 4.0 - delta * 4.0),                // tiny interval
+            4 => (a, b, a, b),                                      // parallelogram
+            5 => (a, a, b, b),                                      // kite
+            6 => (a, a, a, a),                                      // rhombus
+            _ => (b - a, b, a, 2.0 * b - a),                        // both folds at exactly |BC| − |AB|
         };
         let scene = four_bar(ab, bc, cd, da);
         assert_scopes_agree(&scene);
