@@ -272,6 +272,7 @@ fn run(command: Command) -> Result<u8, Failure> {
                 Format::Json => emit(&format!("{}\n", serde_json::to_string_pretty(&report).expect("serializes"))),
                 Format::Text => emit(&report.to_text()),
             }
+            note_all(commands::lazy_note(&s));
             Ok(0)
         }
         Command::Trace { scene, component, from, to, arc, joints, cayley, output, analysis, walk } => {
@@ -298,7 +299,10 @@ fn run(command: Command) -> Result<u8, Failure> {
             commands::walk_components(&mut s, i.max(j) + 1);
             let c = commands::closest(&a, &s, i, j).map_err(arg_error)?;
             match format {
-                Format::Json => emit(&format!("{}\n", serde_json::to_string_pretty(&c).expect("serializes"))),
+                Format::Json => {
+                    emit(&format!("{}\n", serde_json::to_string_pretty(&c).expect("serializes")));
+                    note_all(commands::lazy_note(&s));
+                }
                 Format::Text => {
                     emit(&format!(
                         "Closest pair between components {i} and {j}: Cayley distance {}\n  {}@{}  and  {}@{}\n  {}\n",
