@@ -275,6 +275,7 @@ fn run(command: Command) -> Result<u8, Failure> {
                 Format::Json => emit(&format!("{}\n", serde_json::to_string_pretty(&report).expect("serializes"))),
                 Format::Text => emit(&report.to_text()),
             }
+            note_all(commands::lazy_note(&s));
             Ok(0)
         }
         Command::Trace { scene, component, from, to, arc, joints, cayley, output, analysis, walk } => {
@@ -302,7 +303,10 @@ fn run(command: Command) -> Result<u8, Failure> {
             let opts = caymos::distance::ClosestOptions { gap, ..Default::default() };
             let c = commands::closest_with(&a, &s, i, j, opts).map_err(arg_error)?;
             match format {
-                Format::Json => emit(&format!("{}\n", serde_json::to_string_pretty(&c).expect("serializes"))),
+                Format::Json => {
+                    emit(&format!("{}\n", serde_json::to_string_pretty(&c).expect("serializes")));
+                    note_all(commands::lazy_note(&s));
+                }
                 Format::Text => {
                     emit(&c.to_text());
                     if let Some(note) = commands::lazy_note(&s) {

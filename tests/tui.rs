@@ -184,6 +184,27 @@ fn snapshot_no_realization_80x24() {
     insta::assert_snapshot!("no_realization_80x24", render(&a, 80, 24, Theme { color: false }).backend());
 }
 
+/// Issue 10 item 1: extreme coordinates (where an analysis may find no
+/// component) open, draw and take keys without a panic, on either screen.
+#[test]
+fn extreme_scales_open_draw_and_take_keys() {
+    for factor in [1e-320, 1e-200, 1e-100, 1e100, 1e130, 1e200, 1e307] {
+        let mut scene = bundled::load("fourbar-crank-rocker").unwrap();
+        for j in &mut scene.joints {
+            j.pos = [j.pos[0] * factor, j.pos[1] * factor];
+        }
+        for b in &mut scene.bars {
+            b.length = b.length.map(|l| l * factor);
+        }
+        let mut a = App::ready(analyse(scene, None).unwrap());
+        for keys in ["", "]]→→LLn", "vrx", "g1⏎", "ab12⎋", "+-0"] {
+            press(&mut a, keys);
+            let screen = format!("{}", render(&a, 100, 30, Theme { color: true }).backend());
+            assert!(screen.contains("realization"), "×{factor:e}: {screen}");
+        }
+    }
+}
+
 /// Issue 10 item 10: the λ readout has significant digits at any scale.
 #[test]
 fn the_readout_shows_significant_digits_at_tiny_scales() {

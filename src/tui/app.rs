@@ -233,6 +233,8 @@ impl Model {
         if let Some(last) = traced.last_mut() {
             *last = true; // the last joint is usually the coupler point or the foot
         }
+        // Until a realization is computed: the drawn one (never empty).
+        let positions = solved.drawn_positions.clone().unwrap_or_else(|| analysis.linkage.drawn.clone());
         let ccv_len = solved.complexity.ccv.len();
         let axes = [0, 1.min(ccv_len.saturating_sub(1)), 2.min(ccv_len.saturating_sub(1))];
         let mut m = Model {
@@ -242,7 +244,7 @@ impl Model {
             segments: Vec::new(),
             seg: 0,
             lambda: 0.0,
-            positions: Vec::new(),
+            positions,
             component: 0,
             step,
             extent,
@@ -315,10 +317,16 @@ impl Model {
         self.bounds = self.component_bounds();
     }
 
-    fn refresh(&mut self) {
+    /// Positions at the current λ; where none can be computed (or they are
+    /// not finite) the last ones stay, and `false` says so.
+    fn refresh(&mut self) -> bool {
         let a = &self.analysis;
-        if let Some(p) = realization_at(&self.solved.construction, &a.linkage, &self.segments[self.seg], self.lambda) {
-            self.positions = p;
+        match realization_at(&self.solved.construction, &a.linkage, &self.segments[self.seg], self.lambda) {
+            Some(p) => {
+                self.positions = p;
+                true
+            }
+            None => false,
         }
     }
 
@@ -379,7 +387,10 @@ impl Model {
                     )
                 }))
             }
-            None => Err("end of the path: press 1/2 to walk it again, Esc for the whole component".into()),
+            None => match walk.summary().stopped_at {
+                Some(l) => Err(format!("no realization could be computed at λ = {}: cannot move on", fmt_num(l))),
+                None => Err("end of the path: press 1/2 to walk it again, Esc for the whole component".into()),
+            },
         }
     }
 
@@ -388,8 +399,19 @@ impl Model {
         let (i, s) = self.ahead(dir).into_iter().find(|(_, s)| s.to != self.lambda).ok_or("end of the path")?;
         self.seg = i;
         self.lambda = s.to;
-        self.refresh();
-        Ok(())
+        self.refreshed()
+    }
+
+    /// [`Self::refresh`], with a message when no realization could be computed.
+    fn refreshed(&mut self) -> Result<(), String> {
+        if self.refresh() {
+            Ok(())
+        } else {
+            Err(format!(
+                "no realization could be computed at λ = {}: the joints shown are the last ones computed",
+                fmt_num(self.lambda)
+            ))
+        }
     }
 
     /// Apply an action; `Ok(Some(note))` when it has something to say.
@@ -452,7 +474,7 @@ impl Model {
                 self.component = self.solved.components.of_interval[self.segments[0].interval];
                 self.seg = 0;
                 self.lambda = self.segments[0].from;
-                self.refresh();
+                self.refreshed()?;
             }
             Action::FollowComponent => {
                 if let Motion::Path { .. } = self.motion {
@@ -568,8 +590,7 @@ impl Model {
             Some(i) => {
                 self.seg = i;
                 self.lambda = lambda;
-                self.refresh();
-                Ok(())
+                self.refreshed()
             }
             None => Err(format!("λ = {lambda} is not reached by this motion")),
         }
