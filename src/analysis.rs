@@ -383,7 +383,9 @@ pub fn analyse_with(scene: Scene, base_override: Option<[usize; 2]>, scope: Scop
                 Some((l, pos)) if scene.is_sketch() => {
                     warnings.push(format!(
                         "the sketch's base length λ = {} is not attainable in its type {}; realized at the nearest attainable λ = {}",
-                        drawn.lambda, drawn.ty, l
+                        sig(drawn.lambda),
+                        drawn.ty,
+                        sig(l)
                     ));
                     drawn.lambda = l;
                     Some(to_display(&linkage, dec.base, &pos))
@@ -423,7 +425,7 @@ pub fn analyse_with(scene: Scene, base_override: Option<[usize; 2]>, scope: Scop
         let events: Vec<String> = b.events.iter().map(|e| format!("step {} {}", e.step + 1, e.kind.name())).collect();
         let text = format!(
             "{what} at λ = {} ({}): {} ways on; each listed component follows the lowest flat step's flip there",
-            b.lambda,
+            sig(b.lambda),
             events.join(", "),
             b.options.len()
         );
@@ -454,6 +456,12 @@ pub fn analyse_with(scene: Scene, base_override: Option<[usize; 2]>, scope: Scop
     Ok(Analysis { scene, linkage, outcome: Ok(solved), warnings, timings })
 }
 
+/// λ in sentences: as many significant digits as tell two f64 apart, never a
+/// fixed number of decimals (1e-20 and 1e300 print as such).
+fn sig(x: f64) -> String {
+    crate::report::fmt_sig(x, 17)
+}
+
 /// A sentence saying why (λ, type) has no realization.
 pub fn describe_unrealizable(
     linkage: &Linkage,
@@ -467,7 +475,8 @@ pub fn describe_unrealizable(
         Unrealizable::Infeasible { step, slack } => {
             let s = &dec.steps[step];
             format!(
-                "type {ty} has no realization at λ = {lambda}: step {} ({} ◁ ({}, {})) cannot close (short by {:.3e})",
+                "type {ty} has no realization at λ = {}: step {} ({} ◁ ({}, {})) cannot close (short by {:.3e})",
+                sig(lambda),
                 step + 1,
                 n[s.vertex],
                 n[s.u],
@@ -478,7 +487,8 @@ pub fn describe_unrealizable(
         Unrealizable::Degenerate { step } => {
             let s = &dec.steps[step];
             format!(
-                "type {ty} at λ = {lambda}: step {} has {} and {} at the same point, so {} is undetermined",
+                "type {ty} at λ = {}: step {} has {} and {} at the same point, so {} is undetermined",
+                sig(lambda),
                 step + 1,
                 n[s.u],
                 n[s.w],
@@ -501,22 +511,25 @@ pub fn describe_notes(linkage: &Linkage, dec: &Decomposition, notes: &[Note]) ->
                 let list: Vec<String> =
                     events.iter().map(|e| format!("{} {}", step_name(e.step), e.kind.name())).collect();
                 format!(
-                    "non-generic: at λ = {lambda} several steps are flat at once: {}; the motion may branch there",
+                    "non-generic: at λ = {} several steps are flat at once: {}; the motion may branch there",
+                    sig(*lambda),
                     list.join(", ")
                 )
             }
             Note::Tangency { lambda, event, inside: false } => format!(
-                "tangency: {} is {} only at the isolated point λ = {lambda}",
+                "tangency: {} is {} only at the isolated point λ = {}",
                 step_name(event.step),
-                event.kind.name()
+                event.kind.name(),
+                sig(*lambda)
             ),
             Note::Tangency { lambda, event, inside: true } => format!(
-                "tangency: {} touches {} at λ = {lambda} inside an interval without leaving it",
+                "tangency: {} touches {} at λ = {} inside an interval without leaving it",
                 step_name(event.step),
-                event.kind.name()
+                event.kind.name(),
+                sig(*lambda)
             ),
             Note::Unresolved { lambda, step, detail } => {
-                format!("unresolved near λ = {lambda}, {}: {detail}", step_name(*step))
+                format!("unresolved near λ = {}, {}: {detail}", sig(*lambda), step_name(*step))
             }
             Note::ZeroBase { step } => format!(
                 "the base length reaches 0 ({} folded with equal bars): the base joints coincide there",
@@ -525,8 +538,8 @@ pub fn describe_notes(linkage: &Linkage, dec: &Decomposition, notes: &[Note]) ->
             Note::Degenerate { lambda, step } => format!(
                 "degenerate: for some types {} has its base joints coincide for λ in [{}, {}], so its vertex turns freely (an extra degree of freedom); those types are left out there",
                 step_name(*step),
-                lambda[0],
-                lambda[1]
+                sig(lambda[0]),
+                sig(lambda[1])
             ),
         };
         if !out.contains(&text) {

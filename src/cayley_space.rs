@@ -308,6 +308,13 @@ impl<T: Real> Sweep<'_, T> {
                 None => self.numeric_roots(k, bits, piece, t).into_iter().filter(|&x| x > lo && x < hi).collect(),
             };
             let at_ends = [(lo, At::Lo, ends[0][ki]), (hi, At::Hi, ends[1][ki])];
+            // Where step k is proven flat at an end, a candidate a few ulps
+            // inside is that same root computed another way, not a new one.
+            let ulps = |x: T| T::from_f64(8.0 * T::UNIT_ROUNDOFF) * x.abs();
+            let candidates: Vec<T> = candidates
+                .into_iter()
+                .filter(|&x| !at_ends.iter().any(|&(e, _, sign)| sign == Sign::Zero && (x - e).abs() <= ulps(e)))
+                .collect();
             let flat_ends = at_ends.into_iter().filter(|e| e.2 == Sign::Zero).map(|(x, at, _)| (x, at));
             for (lambda, at) in candidates.into_iter().map(|x| (x, At::Inside)).chain(flat_ends) {
                 let Some(d) = self.distance(k, bits, lambda) else { continue };
