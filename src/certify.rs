@@ -237,7 +237,9 @@ impl Certifier {
         if width.is_nan() || width >= 1e-8 * scale {
             return None;
         }
-        let mut delta = 8.0 * T::UNIT_ROUNDOFF * lambda.to_f64().abs().max(scale);
+        // At least the smallest subnormal, so that the search grows even for
+        // scenes at the bottom of f64's range.
+        let mut delta = (8.0 * T::UNIT_ROUNDOFF * lambda.to_f64().abs().max(scale)).max(f64::from_bits(1));
         while delta < 1e-6 * scale {
             let (lo, hi) = (centre - T::from_f64(delta), centre + T::from_f64(delta));
             if let (Some(a), Some(b)) = (slack(lo), slack(hi))

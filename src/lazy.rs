@@ -371,9 +371,15 @@ impl<'a, T: Real> Walker<'a, T> {
                 Some(p) if p.lambda == x => made.pop().expect("just seen"),
                 _ => self.probe(bits, x),
             };
-            if (x - near.lambda).abs() > finest && !self.well_sampled(&near, &right, dir) {
+            let mid = (near.lambda + x) * half;
+            // Halve only while the midpoint is a new number (scenes near the
+            // bottom of f64's range run out of them before `finest`).
+            if (x - near.lambda).abs() > finest
+                && between(mid, near.lambda, x)
+                && !self.well_sampled(&near, &right, dir)
+            {
                 pending.push(x);
-                pending.push((near.lambda + x) * half);
+                pending.push(mid);
                 made.push(right);
                 continue;
             }

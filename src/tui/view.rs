@@ -207,17 +207,38 @@ fn cut_note(m: &Model) -> &'static str {
     if m.cache.as_ref().is_some_and(|c| c.truncated) { "· traces cut at the sample budget " } else { "" }
 }
 
+/// The drawing in units of its own extent, centred: the canvas never sees
+/// scene coordinates (a scene at 1e307 or 1e-320 would overflow or vanish in
+/// its arithmetic).
+fn unit_frame(b: [f64; 4]) -> impl Fn([f64; 2]) -> [f64; 2] {
+    let (cx, cy) = (b[0] / 2.0 + b[2] / 2.0, b[1] / 2.0 + b[3] / 2.0);
+    let span = (b[2] / 2.0 - b[0] / 2.0).max(b[3] / 2.0 - b[1] / 2.0) * 2.0;
+    let span = if span.is_finite() && span > 0.0 { span } else { 1.0 };
+    let (cx, cy) = if cx.is_finite() && cy.is_finite() { (cx, cy) } else { (0.0, 0.0) };
+    move |p| [(p[0] - cx) / span, (p[1] - cy) / span]
+}
+
 fn draw_linkage(frame: &mut Frame, m: &Model, area: Rect, theme: Theme) {
-    let (xb, yb) = equal_bounds(m.bounds, area);
+    let unit = unit_frame(m.bounds);
+    let [x0, y0] = unit([m.bounds[0], m.bounds[1]]);
+    let [x1, y1] = unit([m.bounds[2], m.bounds[3]]);
+    let (xb, yb) = equal_bounds([x0, y0, x1, y1], area);
     let traces: Vec<(usize, Vec<(f64, f64)>)> = match (&m.cache, m.traces_on) {
         (Some(s), true) => {
             let traced: Vec<usize> = (0..m.traced.len()).filter(|&j| m.traced[j]).collect();
-            traced.iter().map(|&j| (j, s.positions.iter().map(|p| (p[j][0], p[j][1])).collect())).collect()
+            traced
+                .iter()
+                .map(|&j| {
+                    let points =
+                        s.positions.iter().map(|p| unit(p[j])).filter(|p| p[0].is_finite() && p[1].is_finite());
+                    (j, points.map(|p| (p[0], p[1])).collect())
+                })
+                .collect()
         }
         _ => Vec::new(),
     };
     let l = &m.analysis.linkage;
-    let pos = &m.positions;
+    let pos: Vec<[f64; 2]> = m.positions.iter().map(|&p| unit(p)).collect();
     let ccv = &m.solved.complexity.ccv;
     let title = Line::from(vec![
         Span::styled(format!(" {} ", m.analysis.scene.name), theme.title()),
