@@ -316,29 +316,10 @@ fn monochrome_theme_uses_no_colour_and_keeps_emphasis() {
 /// The real binary in a pseudo-terminal: a full crank turn, then quit.
 #[test]
 fn end_to_end_in_a_pseudo_terminal() {
-    use portable_pty::{CommandBuilder, PtySize, native_pty_system};
-    use std::io::{Read, Write};
-    use std::sync::mpsc;
+    use std::io::Write;
     use std::time::{Duration, Instant};
 
-    let pair = native_pty_system().openpty(PtySize { rows: 24, cols: 80, pixel_width: 0, pixel_height: 0 }).unwrap();
-    let mut cmd = CommandBuilder::new(env!("CARGO_BIN_EXE_caymos"));
-    cmd.arg("jansen");
-    cmd.env("NO_COLOR", "1");
-    cmd.env("TERM", "xterm-256color");
-    let mut child = pair.slave.spawn_command(cmd).unwrap();
-    drop(pair.slave);
-    let mut reader = pair.master.try_clone_reader().unwrap();
-    let mut writer = pair.master.take_writer().unwrap();
-    let (tx, rx) = mpsc::channel::<Vec<u8>>();
-    std::thread::spawn(move || {
-        let mut buf = [0u8; 4096];
-        while let Ok(n) = reader.read(&mut buf) {
-            if n == 0 || tx.send(buf[..n].to_vec()).is_err() {
-                break;
-            }
-        }
-    });
+    let (_master, mut child, mut writer, rx) = spawn_in_pty("jansen");
     let mut parser = vt100::Parser::new(24, 80, 0);
     // Wait until the screen shows `want` (and, if given, a λ different from `not`).
     let wait_for = |parser: &mut vt100::Parser, pred: &dyn Fn(&str) -> bool| -> String {
@@ -408,33 +389,14 @@ fn end_to_end_in_a_pseudo_terminal() {
 /// draws why, and quits with exit status 0 (it used to panic, exit 101).
 #[test]
 fn a_scene_with_no_realization_in_a_pseudo_terminal() {
-    use portable_pty::{CommandBuilder, PtySize, native_pty_system};
-    use std::io::{Read, Write};
-    use std::sync::mpsc;
+    use std::io::Write;
     use std::time::{Duration, Instant};
 
     let dir = std::env::temp_dir().join(format!("caymos-tui-empty-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let file = dir.join("cannot-close.toml");
     std::fs::write(&file, caymos::generate::to_toml(&no_realization_scene())).unwrap();
-    let pair = native_pty_system().openpty(PtySize { rows: 24, cols: 80, pixel_width: 0, pixel_height: 0 }).unwrap();
-    let mut cmd = CommandBuilder::new(env!("CARGO_BIN_EXE_caymos"));
-    cmd.arg(file.to_str().unwrap());
-    cmd.env("NO_COLOR", "1");
-    cmd.env("TERM", "xterm-256color");
-    let mut child = pair.slave.spawn_command(cmd).unwrap();
-    drop(pair.slave);
-    let mut reader = pair.master.try_clone_reader().unwrap();
-    let mut writer = pair.master.take_writer().unwrap();
-    let (tx, rx) = mpsc::channel::<Vec<u8>>();
-    std::thread::spawn(move || {
-        let mut buf = [0u8; 4096];
-        while let Ok(n) = reader.read(&mut buf) {
-            if n == 0 || tx.send(buf[..n].to_vec()).is_err() {
-                break;
-            }
-        }
-    });
+    let (_master, mut child, mut writer, rx) = spawn_in_pty(file.to_str().unwrap());
     let mut parser = vt100::Parser::new(24, 80, 0);
     let deadline = Instant::now() + Duration::from_secs(20);
     loop {
@@ -465,4 +427,38 @@ fn a_scene_with_no_realization_in_a_pseudo_terminal() {
     }
     assert!(!parser.screen().alternate_screen(), "terminal left in the alternate screen");
     std::fs::remove_dir_all(&dir).ok();
+}
+
+/// The real binary on `arg` in an 80×24 pseudo-terminal with `NO_COLOR=1`:
+/// the master (keep it alive), the child, its input, and its output as chunks.
+#[allow(clippy::type_complexity)]
+fn spawn_in_pty(
+    arg: &str,
+) -> (
+    Box<dyn portable_pty::MasterPty + Send>,
+    Box<dyn portable_pty::Child + Send + Sync>,
+    Box<dyn std::io::Write + Send>,
+    std::sync::mpsc::Receiver<Vec<u8>>,
+) {
+    use portable_pty::{CommandBuilder, PtySize, native_pty_system};
+    use std::io::Read;
+    let pair = native_pty_system().openpty(PtySize { rows: 24, cols: 80, pixel_width: 0, pixel_height: 0 }).unwrap();
+    let mut cmd = CommandBuilder::new(env!("CARGO_BIN_EXE_caymos"));
+    cmd.arg(arg);
+    cmd.env("NO_COLOR", "1");
+    cmd.env("TERM", "xterm-256color");
+    let child = pair.slave.spawn_command(cmd).unwrap();
+    drop(pair.slave);
+    let mut reader = pair.master.try_clone_reader().unwrap();
+    let writer = pair.master.take_writer().unwrap();
+    let (tx, rx) = std::sync::mpsc::channel::<Vec<u8>>();
+    std::thread::spawn(move || {
+        let mut buf = [0u8; 4096];
+        while let Ok(n) = reader.read(&mut buf) {
+            if n == 0 || tx.send(buf[..n].to_vec()).is_err() {
+                break;
+            }
+        }
+    });
+    (pair.master, child, writer, rx)
 }
