@@ -367,29 +367,13 @@ fn end_to_end_in_a_pseudo_terminal() {
     assert_ne!(types[2], types[1], "and flips after it");
     assert_eq!(types[3], types[1]);
     assert_eq!(types[4], types[2], "a full crank turn changes the type twice");
-    writer.write_all(b"q").unwrap();
-    writer.flush().unwrap();
-    let deadline = Instant::now() + Duration::from_secs(10);
-    let status = loop {
-        if let Some(status) = child.try_wait().unwrap() {
-            break status;
-        }
-        assert!(Instant::now() < deadline, "did not exit after q");
-        std::thread::sleep(Duration::from_millis(20));
-    };
-    assert!(status.success(), "exit status {status:?}");
-    // The alternate screen was left (the terminal restored).
-    while let Ok(bytes) = rx.recv_timeout(Duration::from_millis(200)) {
-        parser.process(&bytes);
-    }
-    assert!(!parser.screen().alternate_screen(), "terminal left in the alternate screen");
+    type_and_expect_clean_exit(b"q", &mut *child, &mut *writer, &rx, &mut parser);
 }
 
 /// Issue 10 item 1: the real binary on a scene with no realization opens,
 /// draws why, and quits with exit status 0 (it used to panic, exit 101).
 #[test]
 fn a_scene_with_no_realization_in_a_pseudo_terminal() {
-    use std::io::Write;
     use std::time::{Duration, Instant};
 
     let dir = std::env::temp_dir().join(format!("caymos-tui-empty-{}", std::process::id()));
@@ -411,21 +395,7 @@ fn a_scene_with_no_realization_in_a_pseudo_terminal() {
         std::thread::sleep(Duration::from_millis(20));
     }
     // Keys that would walk or mark do nothing here; then quit.
-    writer.write_all(b"]ln ab1vq").unwrap();
-    writer.flush().unwrap();
-    let deadline = Instant::now() + Duration::from_secs(10);
-    let status = loop {
-        if let Some(status) = child.try_wait().unwrap() {
-            break status;
-        }
-        assert!(Instant::now() < deadline, "did not exit after q");
-        std::thread::sleep(Duration::from_millis(20));
-    };
-    assert!(status.success(), "exit status {status:?}");
-    while let Ok(bytes) = rx.recv_timeout(Duration::from_millis(200)) {
-        parser.process(&bytes);
-    }
-    assert!(!parser.screen().alternate_screen(), "terminal left in the alternate screen");
+    type_and_expect_clean_exit(b"]ln ab1vq", &mut *child, &mut *writer, &rx, &mut parser);
     std::fs::remove_dir_all(&dir).ok();
 }
 
@@ -461,4 +431,31 @@ fn spawn_in_pty(
         }
     });
     (pair.master, child, writer, rx)
+}
+
+/// Type `keys` (ending in a quit), then: the child exits with status 0 within
+/// 10 s and has left the alternate screen (the terminal is restored).
+fn type_and_expect_clean_exit(
+    keys: &[u8],
+    child: &mut dyn portable_pty::Child,
+    writer: &mut dyn std::io::Write,
+    rx: &std::sync::mpsc::Receiver<Vec<u8>>,
+    parser: &mut vt100::Parser,
+) {
+    use std::time::{Duration, Instant};
+    writer.write_all(keys).unwrap();
+    writer.flush().unwrap();
+    let deadline = Instant::now() + Duration::from_secs(10);
+    let status = loop {
+        if let Some(status) = child.try_wait().unwrap() {
+            break status;
+        }
+        assert!(Instant::now() < deadline, "did not exit after {:?}", String::from_utf8_lossy(keys));
+        std::thread::sleep(Duration::from_millis(20));
+    };
+    assert!(status.success(), "exit status {status:?}");
+    while let Ok(bytes) = rx.recv_timeout(Duration::from_millis(200)) {
+        parser.process(&bytes);
+    }
+    assert!(!parser.screen().alternate_screen(), "terminal left in the alternate screen");
 }

@@ -66,27 +66,15 @@ fn draw_empty(frame: &mut Frame, a: &Analysis, why: &str, area: Rect, theme: The
     let [main, right] = Layout::horizontal([Constraint::Min(20), Constraint::Length(side)]).areas(area);
     let l = &a.linkage;
     // Drawn in units of the drawing's extent about its centre, so any scale draws.
-    let pos = normalised(&l.drawn);
-    let mut b = [f64::INFINITY, f64::INFINITY, f64::NEG_INFINITY, f64::NEG_INFINITY];
-    for p in &pos {
-        b = [b[0].min(p[0]), b[1].min(p[1]), b[2].max(p[0]), b[3].max(p[1])];
-    }
-    let (xb, yb) = equal_bounds(b, main);
+    let unit = unit_frame(bounds_of(&l.drawn));
+    let pos: Vec<[f64; 2]> = l.drawn.iter().map(|&p| unit(p)).collect();
+    let (xb, yb) = equal_bounds(bounds_of(&pos), main);
     let title = Line::from(vec![
         Span::styled(format!(" {} ", a.scene.name), theme.title()),
         Span::styled("· the drawing (no realization) ", theme.dim()),
     ]);
     let canvas = braille(title, xb, yb, |ctx| {
-        for bar in &l.bars {
-            let (p, q) = (pos[bar.joints[0]], pos[bar.joints[1]]);
-            ctx.draw(&Segment2::new(p[0], p[1], q[0], q[1], theme.bar()));
-        }
-        for body in &l.bodies {
-            for (i, &j) in body.iter().enumerate() {
-                let k = body[(i + 1) % body.len()];
-                ctx.draw(&Segment2::new(pos[j][0], pos[j][1], pos[k][0], pos[k][1], theme.bar()));
-            }
-        }
+        draw_bars(ctx, l, &pos, theme.bar());
         ctx.layer();
         let tick = (xb[1] - xb[0]) * 0.015;
         for (j, p) in pos.iter().enumerate() {
@@ -124,21 +112,27 @@ fn draw_empty(frame: &mut Frame, a: &Analysis, why: &str, area: Rect, theme: The
     frame.render_widget(p, right);
 }
 
-/// Points relative to their bounding box's centre, in units of its diagonal
-/// (halved arithmetic keeps drawings near ±f64::MAX finite).
-fn normalised(points: &[[f64; 2]]) -> Vec<[f64; 2]> {
-    let d = crate::motion::bounding_diagonal(points);
-    let unit = if d > 0.0 && d.is_finite() { d } else { 1.0 };
-    let mut lo = [f64::INFINITY; 2];
-    let mut hi = [f64::NEG_INFINITY; 2];
-    for p in points {
-        for axis in 0..2 {
-            lo[axis] = lo[axis].min(p[axis]);
-            hi[axis] = hi[axis].max(p[axis]);
+/// [min x, min y, max x, max y] of the finite points.
+fn bounds_of(points: &[[f64; 2]]) -> [f64; 4] {
+    let mut b = [f64::INFINITY, f64::INFINITY, f64::NEG_INFINITY, f64::NEG_INFINITY];
+    for p in points.iter().filter(|p| p[0].is_finite() && p[1].is_finite()) {
+        b = [b[0].min(p[0]), b[1].min(p[1]), b[2].max(p[0]), b[3].max(p[1])];
+    }
+    b
+}
+
+/// The bars and body outlines of a linkage at `pos` (canvas coordinates).
+fn draw_bars(ctx: &mut Context, l: &crate::linkage::Linkage, pos: &[[f64; 2]], color: ratatui::style::Color) {
+    for bar in &l.bars {
+        let (p, q) = (pos[bar.joints[0]], pos[bar.joints[1]]);
+        ctx.draw(&Segment2::new(p[0], p[1], q[0], q[1], color));
+    }
+    for body in &l.bodies {
+        for (i, &a) in body.iter().enumerate() {
+            let b = body[(i + 1) % body.len()];
+            ctx.draw(&Segment2::new(pos[a][0], pos[a][1], pos[b][0], pos[b][1], color));
         }
     }
-    let centre = [lo[0] / 2.0 + hi[0] / 2.0, lo[1] / 2.0 + hi[1] / 2.0];
-    points.iter().map(|p| [(p[0] - centre[0]) / unit, (p[1] - centre[1]) / unit]).collect()
 }
 
 fn draw_model(frame: &mut Frame, m: &Model, area: Rect, theme: Theme) {
@@ -252,16 +246,7 @@ fn draw_linkage(frame: &mut Frame, m: &Model, area: Rect, theme: Theme) {
         for &[p, q] in ccv {
             dashed(ctx, pos[p], pos[q], theme.non_edge());
         }
-        for bar in &l.bars {
-            let (p, q) = (pos[bar.joints[0]], pos[bar.joints[1]]);
-            ctx.draw(&Segment2::new(p[0], p[1], q[0], q[1], theme.bar()));
-        }
-        for body in &l.bodies {
-            for (i, &a) in body.iter().enumerate() {
-                let b = body[(i + 1) % body.len()];
-                ctx.draw(&Segment2::new(pos[a][0], pos[a][1], pos[b][0], pos[b][1], theme.bar()));
-            }
-        }
+        draw_bars(ctx, l, &pos, theme.bar());
         let tick = (xb[1] - xb[0]) * 0.015;
         for &g in &l.ground {
             let p = pos[g];
