@@ -4,27 +4,8 @@
 //! and the small items (12). Resource tests assert sample counts and bytes,
 //! never wall-clock times.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
-fn caymos(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_caymos")).args(args).env("NO_COLOR", "1").output().expect("binary runs")
-}
-
-fn stdout(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stdout).to_string()
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).to_string()
-}
-
-/// A scratch directory for this test binary's files.
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("caymos-bounds-{}-{name}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
+use crate::helpers::*;
+use std::path::Path;
 
 fn write(dir: &Path, name: &str, text: &str) -> String {
     let path = dir.join(name);

@@ -4,7 +4,8 @@
 //! properties: the realization space does not depend on the base, the scale,
 //! the pose or the analysis scope.
 
-use caymos::analysis::{Analysis, Scope, Solved, analyse_with};
+use crate::helpers::*;
+use caymos::analysis::{Scope, analyse_with};
 use caymos::bundled;
 use caymos::cayley_space::{Event, Kind, OrientedInterval};
 use caymos::generate::{chain, four_bar, random_linkage};
@@ -12,16 +13,6 @@ use caymos::lazy::{LazyOptions, component_through};
 use caymos::real::{Dd, Jet, Real};
 use caymos::scene::{Scene, parse_scene};
 use proptest::prelude::*;
-
-fn solve_with(scene: Scene, base: Option<[usize; 2]>, scope: Scope) -> (Analysis, Solved) {
-    let a = analyse_with(scene, base, scope).expect("a valid scene");
-    let s = a.outcome.clone().unwrap_or_else(|o| panic!("{}", o.describe(&a.linkage)));
-    (a, s)
-}
-
-fn solve(scene: Scene) -> (Analysis, Solved) {
-    solve_with(scene, None, Scope::Full)
-}
 
 /// The lazy walk from the drawn realization (as the full analysis places
 /// it) finds the full analysis's component through it.

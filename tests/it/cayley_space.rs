@@ -1,21 +1,15 @@
 //! Issue 3: exact Cayley configuration spaces, checked against closed forms,
 //! the worked examples of THEORY.md §7, and a double-double reference.
 
-use caymos::analysis::{Solved, analyse, reference_accuracy};
+use crate::helpers::*;
+use caymos::analysis::{Analysis, Solved, analyse, reference_accuracy};
 use caymos::bundled;
 use caymos::cayley_space::{Kind, Method, Note, cayley_space};
 use caymos::generate::{bd_distance, four_bar, four_bar_with_dyad, random_linkage, tangency};
 use caymos::linkage::Linkage;
 use caymos::real::Jet;
 use caymos::realize::{Construction, slack};
-use caymos::scene::Scene;
 use proptest::prelude::*;
-
-fn solve(scene: Scene) -> (Linkage, Solved) {
-    let a = analyse(scene, None).unwrap();
-    let s = a.outcome.clone().unwrap_or_else(|o| panic!("{}", o.describe(&a.linkage)));
-    (a.linkage, s)
-}
 
 /// f64 endpoints within 1e-12 × scale of the double-double reference, same structure.
 fn assert_matches_reference(l: &Linkage, s: &Solved) {
@@ -56,7 +50,7 @@ proptest! {
         let hi = (ab + bc).min(da + cd);
         prop_assume!(hi - lo > 1e-6 * hi);
         // The drawn pose must itself be realizable for the sketch; any λ inside works.
-        let (l, s) = solve(four_bar(ab, bc, cd, da));
+        let (Analysis { linkage: l, .. }, s) = solve(four_bar(ab, bc, cd, da));
         prop_assert_eq!(s.space.intervals.len(), 4);
         for i in &s.space.intervals {
             prop_assert!((i.lower.lambda - lo).abs() <= 1e-13 * hi, "{} vs {lo}", i.lower.lambda);
@@ -74,7 +68,7 @@ proptest! {
         for j in &mut scaled.joints {
             j.pos = [j.pos[0] * factor, j.pos[1] * factor];
         }
-        let (l, s) = solve(scene);
+        let (Analysis { linkage: l, .. }, s) = solve(scene);
         let (_, t) = solve(scaled);
         prop_assert_eq!(s.space.intervals.len(), t.space.intervals.len());
         for (x, y) in s.space.intervals.iter().zip(&t.space.intervals) {
@@ -88,7 +82,7 @@ proptest! {
     /// inside the interval and the named step does not just outside.
     #[test]
     fn endpoints_have_exactly_the_named_step_flat(seed in any::<u64>(), steps in 1usize..7, tri in 0.0f64..0.6) {
-        let (l, s) = solve(random_linkage(seed, steps, tri));
+        let (Analysis { linkage: l, .. }, s) = solve(random_linkage(seed, steps, tri));
         let con = &s.construction;
         let h = 1e-7 * l.scale;
         for i in &s.space.intervals {
@@ -121,7 +115,7 @@ proptest! {
 
 #[test]
 fn jansen_leg_has_sixteen_intervals_over_the_crank_range() {
-    let (l, s) = solve(bundled::load("jansen").unwrap());
+    let (Analysis { linkage: l, .. }, s) = solve(bundled::load("jansen").unwrap());
     assert_eq!(s.space.intervals.len(), 16);
     let op = (38.0f64 * 38.0 + 7.8 * 7.8).sqrt();
     assert_eq!(s.union.len(), 1);
@@ -136,7 +130,7 @@ fn jansen_leg_has_sixteen_intervals_over_the_crank_range() {
 
 #[test]
 fn limacon_matches_the_published_intervals() {
-    let (l, s) = solve(bundled::load("limacon").unwrap());
+    let (Analysis { linkage: l, .. }, s) = solve(bundled::load("limacon").unwrap());
     assert_eq!(s.union.len(), 1);
     assert!((s.union[0][0] - 70.03).abs() < 0.01 && (s.union[0][1] - 321.98).abs() < 0.01);
     let mut spans: Vec<(f64, f64)> = s.space.intervals.iter().map(|i| (i.lower.lambda, i.upper.lambda)).collect();
@@ -161,7 +155,7 @@ fn hard_case_interval_narrower_than_1e_minus_7() {
     // |BD| ≤ BE + DE, set to |BD| at 5.5 − 2e-8: a sliver [5.5 − 2e-8, 5.5].
     let lengths = [3.0, 4.0, 3.5, 2.0];
     let t = bd_distance(lengths, 5.5 - 2e-8, true, false);
-    let (l, s) = solve(four_bar_with_dyad(lengths, t / 2.0 + 0.25, t / 2.0 - 0.25));
+    let (Analysis { linkage: l, .. }, s) = solve(four_bar_with_dyad(lengths, t / 2.0 + 0.25, t / 2.0 - 0.25));
     let sliver: Vec<_> =
         s.space.intervals.iter().filter(|i| i.upper.lambda - i.lower.lambda < 1e-7 * i.upper.lambda).collect();
     assert!(!sliver.is_empty(), "no sliver found");
@@ -182,7 +176,7 @@ fn hard_case_endpoints_of_different_steps_closer_than_1e_minus_6() {
     // 3e-7 apart, in different intervals.
     let lengths = [3.0, 4.0, 3.5, 2.0];
     let t = bd_distance(lengths, 5.5 - 3e-7, true, false);
-    let (l, s) = solve(four_bar_with_dyad(lengths, t / 2.0 + 0.25, t / 2.0 - 0.25));
+    let (Analysis { linkage: l, .. }, s) = solve(four_bar_with_dyad(lengths, t / 2.0 + 0.25, t / 2.0 - 0.25));
     let ends: Vec<(f64, usize)> =
         s.space.intervals.iter().flat_map(|i| [&i.lower, &i.upper]).map(|e| (e.lambda, e.events[0].step)).collect();
     let close =
@@ -197,7 +191,7 @@ fn hard_case_isolated_point_from_a_tangency() {
     // See `generate::tangency`: |pq| ≤ 7 with equality at one λ, where the
     // hinge angle a-v1-b is 180° − 30° − 60°, so λ = 10 sin 45°.
     let expected = 10.0 * ((std::f64::consts::PI - 30f64.to_radians() - 60f64.to_radians()) / 2.0).sin();
-    let (l, s) = solve(tangency());
+    let (Analysis { linkage: l, .. }, s) = solve(tangency());
     assert!(!s.space.intervals.is_empty(), "the isolated point must be kept");
     for i in &s.space.intervals {
         assert_eq!(i.lower.lambda, i.upper.lambda, "an isolated point has zero width");
@@ -213,7 +207,7 @@ fn hard_case_bars_from_1e_minus_3_to_1e3() {
     // A Grashof four-bar with a 1e-3 crank and 1e3 coupler, plus a dyad whose
     // reach (0.55 + 0.4505) cuts the motion where |BD| ∈ [0.999, 1.001] passes 1.0005.
     let lengths = [1e-3, 1e3, 999.9995, 1.0];
-    let (l, s) = solve(four_bar_with_dyad(lengths, 0.55, 0.4505));
+    let (Analysis { linkage: l, .. }, s) = solve(four_bar_with_dyad(lengths, 0.55, 0.4505));
     assert!(s.space.intervals.iter().flat_map(|i| [&i.lower, &i.upper]).any(|e| e.events[0].step == 2));
     let (lo, hi) = (999.999, 1000.001);
     assert!(!s.space.intervals.is_empty());
@@ -228,7 +222,7 @@ fn hard_case_bars_from_1e_minus_3_to_1e3() {
 fn hard_case_near_parallelogram() {
     // Opposite bars equal but for 1e-6 relative: AB = 2, CD = 2(1 + 1e-6), BC = DA = 3.
     let (ab, bc, cd, da) = (2.0, 3.0, 2.0 * (1.0 + 1e-6), 3.0);
-    let (l, s) = solve(four_bar(ab, bc, cd, da));
+    let (Analysis { linkage: l, .. }, s) = solve(four_bar(ab, bc, cd, da));
     let lo = (ab - bc).abs().max((da - cd).abs());
     let hi = (ab + bc).min(da + cd);
     assert_eq!(s.space.intervals.len(), 4);
@@ -241,7 +235,7 @@ fn hard_case_near_parallelogram() {
 #[test]
 fn hard_case_non_lcc_scenes_use_the_numeric_search_and_match_the_reference() {
     for name in ["stephenson", "fig1b"] {
-        let (l, s) = solve(bundled::load(name).unwrap());
+        let (Analysis { linkage: l, .. }, s) = solve(bundled::load(name).unwrap());
         assert!(!s.complexity.low);
         assert!(!s.space.numeric_steps.is_empty());
         assert!(!s.space.intervals.is_empty());
@@ -252,7 +246,7 @@ fn hard_case_non_lcc_scenes_use_the_numeric_search_and_match_the_reference() {
 
 #[test]
 fn hard_case_peaucellier_is_non_generic_and_reported() {
-    let (l, s) = solve(bundled::load("peaucellier").unwrap());
+    let (Analysis { linkage: l, .. }, s) = solve(bundled::load("peaucellier").unwrap());
     // λ = |OC| ∈ [2, 4]: B, D need |OC| ≥ 5 − 3, A needs |OC| ≤ 2 + 2.
     assert_eq!(s.union, vec![[2.0, 4.0]]);
     let coincident = |x: f64| {

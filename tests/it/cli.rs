@@ -1,14 +1,6 @@
 //! The real binary: exit codes, JSON shape, one-line errors naming file and line.
 
-use std::process::{Command, Output};
-
-fn caymos(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_caymos")).args(args).env("NO_COLOR", "1").output().expect("binary runs")
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).to_string()
-}
+use crate::helpers::*;
 
 #[test]
 fn report_runs_on_every_bundled_scene_with_the_right_exit_code() {

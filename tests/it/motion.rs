@@ -1,6 +1,7 @@
 //! Issue 4: components, paths, stepping, traces, Cayley distance, closest pair
 //! (the certified closest pair's own properties: tests/closest.rs).
 
+use crate::helpers::*;
 use caymos::analysis::{Analysis, Solved, analyse};
 use caymos::bundled;
 use caymos::commands;
@@ -8,18 +9,11 @@ use caymos::distance::Arc;
 use caymos::generate::{four_bar, random_linkage};
 use caymos::motion::{Realization, Stepper, arcs, component_segments};
 use caymos::realize::bar_residual;
-use caymos::scene::Scene;
 use proptest::prelude::*;
 
 /// A walk with the default sample budget.
 fn walk(step: f64) -> commands::Walk {
     commands::Walk { step, max_samples: caymos::tolerance::DEFAULT_MAX_SAMPLES }
-}
-
-fn solve(scene: Scene) -> (Analysis, Solved) {
-    let a = analyse(scene, None).unwrap();
-    let s = a.outcome.clone().unwrap_or_else(|o| panic!("{}", o.describe(&a.linkage)));
-    (a, s)
 }
 
 /// Structural invariants of the component list.

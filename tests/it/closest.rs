@@ -1,6 +1,7 @@
 //! Issue 10, item 6: the closest pair between two components, certified by
 //! branch and bound over proven interval enclosures of the Cayley vector.
 
+use crate::helpers::*;
 use caymos::analysis::{Analysis, Solved, analyse};
 use caymos::bundled;
 use caymos::commands;
@@ -9,14 +10,7 @@ use caymos::enclosure::{enclose, halves};
 use caymos::generate::random_linkage;
 use caymos::interval::Interval;
 use caymos::motion::{Component, Realization, Segment, component_segments, realization_at};
-use caymos::scene::Scene;
 use proptest::prelude::*;
-
-fn solve(scene: Scene) -> (Analysis, Solved) {
-    let a = analyse(scene, None).unwrap();
-    let s = a.outcome.clone().unwrap_or_else(|o| panic!("{}", o.describe(&a.linkage)));
-    (a, s)
-}
 
 /// The Cayley vector at λ on a segment (its ends exactly flat).
 fn vector_on(a: &Analysis, s: &Solved, seg: &Segment, lambda: f64) -> Option<Vec<f64>> {

@@ -1,5 +1,6 @@
 //! Issue 2: recognition, steps, four-cycle test and realization of the drawn pose.
 
+use crate::helpers::*;
 use caymos::analysis::{Analysis, Solved, analyse};
 use caymos::builder::SceneBuilder;
 use caymos::bundled;
@@ -7,12 +8,6 @@ use caymos::decompose::Outside;
 use caymos::generate::random_linkage;
 use caymos::realize::to_display;
 use proptest::prelude::*;
-
-fn solved(name: &str) -> (Analysis, Solved) {
-    let a = analyse(bundled::load(name).unwrap(), None).unwrap();
-    let s = a.outcome.clone().unwrap_or_else(|o| panic!("{name}: {}", o.describe(&a.linkage)));
-    (a, s)
-}
 
 fn pair_names(a: &Analysis, p: [usize; 2]) -> [String; 2] {
     [a.linkage.names[p[0]].clone(), a.linkage.names[p[1]].clone()]

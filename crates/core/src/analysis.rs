@@ -459,7 +459,7 @@ pub fn analyse_with(scene: Scene, base_override: Option<[usize; 2]>, scope: Scop
 /// λ in sentences: as many significant digits as tell two f64 apart, never a
 /// fixed number of decimals (1e-20 and 1e300 print as such).
 fn sig(x: f64) -> String {
-    crate::report::fmt_sig(x, 17)
+    crate::numfmt::fmt_sig(x, 17)
 }
 
 /// A sentence saying why (λ, type) has no realization.

@@ -497,7 +497,7 @@ fn check_bars_within_bodies(
                     body.line,
                     shown(&joints[a].name),
                     shown(&joints[b].name),
-                    crate::report::fmt_num(half_drawn * 2.0)
+                    crate::numfmt::fmt_num(half_drawn * 2.0)
                 ),
             ));
         }

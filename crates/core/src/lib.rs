@@ -1,0 +1,45 @@
+//! caymos-core: Cayley analysis of 1-dof tree-decomposable planar linkages.
+//!
+//! The modules follow the data flow: a [`scene`] file becomes a
+//! [`linkage`]; [`decompose`] recognises the class and builds the
+//! construction steps; [`complexity`] decides low Cayley complexity;
+//! [`realize`] places joints for a (λ, type); [`invert`] gives the closed-form
+//! endpoint candidates; [`cayley_space`] (exhaustive) and [`lazy`] (one
+//! component) compute the Cayley configuration space, with structural
+//! decisions proven in [`certify`]; [`motion`] joins intervals into components
+//! and paths; [`distance`] measures and certifies the closest pair.
+//! [`analysis`] runs it all, in f64 with a double-double self-check.
+//!
+//! ```
+//! let text = r#"
+//! ground = ["D", "A"]
+//! bars = [["A", "B", 3], ["B", "C", 4], ["C", "D", 2.5], ["D", "A", 5]]
+//! [joints]
+//! A = [0, 0]
+//! B = [1.026060429977, 2.819077862358]
+//! C = [5.013310949129, 2.499964563476]
+//! D = [5, 0]
+//! "#;
+//! let scene = caymos_core::scene::parse_scene(text, "four-bar.toml", "four-bar").unwrap();
+//! let solved = caymos_core::analysis::analyse(scene, None).unwrap().outcome.unwrap();
+//! // THEORY.md §7: AB=3, BC=4, CD=2.5, DA=5 gives [2.5, 7] for every type.
+//! assert_eq!(solved.union, vec![[2.5, 7.0]]);
+//! assert_eq!(solved.space.intervals.len(), 4);
+//! ```
+pub mod analysis;
+pub mod cayley_space;
+pub mod certify;
+pub mod complexity;
+pub mod decompose;
+pub mod distance;
+pub mod enclosure;
+pub mod interval;
+pub mod invert;
+pub mod lazy;
+pub mod linkage;
+pub mod motion;
+pub mod numfmt;
+pub mod real;
+pub mod realize;
+pub mod scene;
+pub mod tolerance;

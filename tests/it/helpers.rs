@@ -1,0 +1,47 @@
+//! Shared helpers for the one integration-test crate: run the real binary,
+//! solve a scene in process, scratch files.
+
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+use caymos::analysis::{Analysis, Scope, Solved, analyse_with};
+use caymos::bundled;
+use caymos::scene::Scene;
+
+/// The real binary with `args`, colour off.
+pub fn caymos(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_caymos")).args(args).env("NO_COLOR", "1").output().expect("binary runs")
+}
+
+pub fn stdout(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stdout).to_string()
+}
+
+pub fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).to_string()
+}
+
+/// A scratch directory for this test run's files.
+pub fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("caymos-it-{}-{name}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// The analysis on base `base` (or the chosen one) in `scope`; panics with
+/// the reason if the scene has no Cayley space.
+pub fn solve_with(scene: Scene, base: Option<[usize; 2]>, scope: Scope) -> (Analysis, Solved) {
+    let a = analyse_with(scene, base, scope).expect("a valid scene");
+    let s = a.outcome.clone().unwrap_or_else(|o| panic!("{}", o.describe(&a.linkage)));
+    (a, s)
+}
+
+/// The full analysis on the chosen base.
+pub fn solve(scene: Scene) -> (Analysis, Solved) {
+    solve_with(scene, None, Scope::Full)
+}
+
+/// The full analysis of a bundled scene.
+pub fn solved(name: &str) -> (Analysis, Solved) {
+    solve(bundled::load(name).unwrap_or_else(|e| panic!("{name}: {e}")))
+}

@@ -1,0 +1,14 @@
+//! The integration tests: one crate (one link step) with shared helpers.
+mod helpers;
+
+mod bench;
+mod bounds;
+mod cayley_space;
+mod cli;
+mod closest;
+mod lazy;
+mod motion;
+mod recognition;
+mod scene_parse;
+mod trust;
+mod tui;
