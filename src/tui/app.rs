@@ -141,6 +141,15 @@ pub struct MotionSamples {
 pub struct Curve {
     pub runs: Vec<(usize, Vec<(f64, f64)>)>,
     pub here: (f64, f64),
+    /// The samples' range on each axis, which scales it to [-1, 1].
+    pub range: AxisRange,
+}
+
+/// Per axis, the smallest and largest value.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct AxisRange {
+    pub lo: Vector3<f64>,
+    pub hi: Vector3<f64>,
 }
 
 /// What the drawing reads, derived from the state by [`Model::sync`].
@@ -149,8 +158,9 @@ pub struct Picture {
     /// Joints' bounding box over the current component's motion, for a steady view.
     pub bounds: [f64; 4],
     pub samples: MotionSamples,
-    /// Each traced joint's path over the samples (scene units), when traces are on.
-    pub traces: Vec<(usize, Vec<P2<f64>>)>,
+    /// Each traced joint's path over the samples, in the unit frame of
+    /// `bounds` (see [`unit_frame`]) where finite, when traces are on.
+    pub traces: Vec<(usize, Vec<(f64, f64)>)>,
     pub curve: Curve,
     /// The curve stands for mirror pairs (every cluster is symmetric).
     pub mirror: bool,
@@ -717,11 +727,13 @@ impl Model {
         let key = (self.cursor.generation, self.camera, self.traces.clone());
         if self.picture.made_from.as_ref() != Some(&key) {
             let p = &mut self.picture;
-            p.traces = trace_paths(&p.samples, &self.traces);
-            p.curve.runs = curve_runs(&p.samples, &self.camera);
+            p.traces = trace_paths(&p.samples, &self.traces, p.bounds);
+            p.curve.range = axis_range(&p.samples, &self.camera);
+            p.curve.runs = curve_runs(&p.samples, &self.camera, &p.curve.range);
             p.made_from = Some(key);
         }
-        self.picture.curve.here = project(&self.picture.samples, &self.camera, &self.cursor.cayley);
+        let curve = &mut self.picture.curve;
+        curve.here = project(&curve.range, &self.camera, &self.cursor.cayley);
     }
 
     /// The samples of the current motion (for traces and the Cayley curve).
@@ -764,15 +776,34 @@ impl Model {
     }
 }
 
-/// Each traced joint's positions over the samples (none when traces are off).
-fn trace_paths(samples: &MotionSamples, traces: &Traces) -> Vec<(usize, Vec<P2<f64>>)> {
+/// The drawing in units of its own extent (the box `b`), centred: the
+/// canvas never sees scene coordinates (a scene at 1e307 or 1e-320 would
+/// overflow or vanish in its arithmetic). A box of no or infinite extent
+/// gives unit span; a non-finite centre gives the origin.
+pub fn unit_frame(b: [f64; 4]) -> impl Fn([f64; 2]) -> [f64; 2] {
+    let (cx, cy) = (b[0] / 2.0 + b[2] / 2.0, b[1] / 2.0 + b[3] / 2.0);
+    let span = (b[2] / 2.0 - b[0] / 2.0).max(b[3] / 2.0 - b[1] / 2.0) * 2.0;
+    let span = if span.is_finite() && span > 0.0 { span } else { 1.0 };
+    let (cx, cy) = if cx.is_finite() && cy.is_finite() { (cx, cy) } else { (0.0, 0.0) };
+    move |p| [(p[0] - cx) / span, (p[1] - cy) / span]
+}
+
+/// Each traced joint's positions over the samples in the unit frame of
+/// `bounds`, the non-finite left out (none when traces are off).
+fn trace_paths(samples: &MotionSamples, traces: &Traces, bounds: [f64; 4]) -> Vec<(usize, Vec<(f64, f64)>)> {
     if !traces.on {
         return Vec::new();
     }
-    (0..traces.traced.len())
-        .filter(|&j| traces.traced[j])
-        .map(|j| (j, samples.positions.iter().map(|p| p[j]).collect()))
-        .collect()
+    let unit = &unit_frame(bounds);
+    let path = |j: usize| {
+        samples
+            .positions
+            .iter()
+            .map(move |p| unit(p[j]))
+            .filter(|p| p[0].is_finite() && p[1].is_finite())
+            .map(|p| (p[0], p[1]))
+    };
+    (0..traces.traced.len()).filter(|&j| traces.traced[j]).map(|j| (j, path(j).collect())).collect()
 }
 
 /// The camera's three axes of a Cayley vector (0 where it has no such entry).
@@ -780,8 +811,8 @@ fn pick(camera: &Camera, v: &[f64]) -> Vector3<f64> {
     Vector3::from(camera.axes.map(|a| v.get(a).copied().unwrap_or(0.0)))
 }
 
-/// The samples' range on each axis.
-fn axis_range(samples: &MotionSamples, camera: &Camera) -> (Vector3<f64>, Vector3<f64>) {
+/// The samples' range [lo, hi] on each of the camera's axes.
+fn axis_range(samples: &MotionSamples, camera: &Camera) -> AxisRange {
     let mut lo = Vector3::repeat(f64::INFINITY);
     let mut hi = Vector3::repeat(f64::NEG_INFINITY);
     for v in &samples.cayley {
@@ -789,27 +820,22 @@ fn axis_range(samples: &MotionSamples, camera: &Camera) -> (Vector3<f64>, Vector
         lo = lo.inf(&u);
         hi = hi.sup(&u);
     }
-    (lo, hi)
+    AxisRange { lo, hi }
 }
 
 /// A Cayley vector on screen: each axis scaled to [-1, 1] over the samples'
 /// range (0 for an axis of no extent), the first axis across, the third up,
 /// the second in depth; rotated by the camera, projected orthographically.
-fn project_with(range: &(Vector3<f64>, Vector3<f64>), camera: &Camera, v: &[f64]) -> (f64, f64) {
-    let (lo, hi) = range;
+fn project(range: &AxisRange, camera: &Camera, v: &[f64]) -> (f64, f64) {
+    let AxisRange { lo, hi } = range;
     let u = pick(camera, v);
     let n = Vector3::from_fn(|k, _| if hi[k] > lo[k] { 2.0 * (u[k] - lo[k]) / (hi[k] - lo[k]) - 1.0 } else { 0.0 });
     let p = camera.rotation() * Vector3::new(n[0], n[2], n[1]);
     (p.x, p.y)
 }
 
-fn project(samples: &MotionSamples, camera: &Camera, v: &[f64]) -> (f64, f64) {
-    project_with(&axis_range(samples, camera), camera, v)
-}
-
 /// The projected curve in runs of one type that do not cross a jump.
-fn curve_runs(samples: &MotionSamples, camera: &Camera) -> Vec<(usize, Vec<(f64, f64)>)> {
-    let range = axis_range(samples, camera);
+fn curve_runs(samples: &MotionSamples, camera: &Camera, range: &AxisRange) -> Vec<(usize, Vec<(f64, f64)>)> {
     let mut types: Vec<&RealizationType> = Vec::new();
     let mut runs: Vec<(usize, Vec<(f64, f64)>)> = Vec::new();
     for ((v, ty), &jump) in samples.cayley.iter().zip(&samples.types).zip(&samples.jumps) {
@@ -817,7 +843,7 @@ fn curve_runs(samples: &MotionSamples, camera: &Camera) -> Vec<(usize, Vec<(f64,
             types.push(ty);
             types.len() - 1
         });
-        let p = project_with(&range, camera, v);
+        let p = project(range, camera, v);
         // A new run at a type change, and at a jump (no line across it).
         match runs.last_mut() {
             Some((kk, pts)) if *kk == k && !jump => pts.push(p),

@@ -8,7 +8,7 @@ use ratatui::text::{Line, Span};
 use ratatui::widgets::canvas::{Canvas, Context, Line as Segment2, Points};
 use ratatui::widgets::{Block, Clear, Paragraph, Wrap};
 
-use super::app::{App, Model, Motion, Screen, View};
+use super::app::{App, Model, Motion, Screen, View, unit_frame};
 use super::keymap::BINDINGS;
 use super::theme::Theme;
 use crate::analysis::Analysis;
@@ -202,36 +202,13 @@ fn cut_note(m: &Model) -> &'static str {
     if m.picture.samples.truncated { "· traces cut at the sample budget " } else { "" }
 }
 
-/// The drawing in units of its own extent, centred: the canvas never sees
-/// scene coordinates (a scene at 1e307 or 1e-320 would overflow or vanish in
-/// its arithmetic).
-fn unit_frame(b: [f64; 4]) -> impl Fn([f64; 2]) -> [f64; 2] {
-    let (cx, cy) = (b[0] / 2.0 + b[2] / 2.0, b[1] / 2.0 + b[3] / 2.0);
-    let span = (b[2] / 2.0 - b[0] / 2.0).max(b[3] / 2.0 - b[1] / 2.0) * 2.0;
-    let span = if span.is_finite() && span > 0.0 { span } else { 1.0 };
-    let (cx, cy) = if cx.is_finite() && cy.is_finite() { (cx, cy) } else { (0.0, 0.0) };
-    move |p| [(p[0] - cx) / span, (p[1] - cy) / span]
-}
-
 fn draw_linkage(frame: &mut Frame, m: &Model, area: Rect, theme: Theme) {
     let bounds = m.picture.bounds;
     let unit = unit_frame(bounds);
     let [x0, y0] = unit([bounds[0], bounds[1]]);
     let [x1, y1] = unit([bounds[2], bounds[3]]);
     let (xb, yb) = equal_bounds([x0, y0, x1, y1], area);
-    // The traces as the canvas takes them: points in the unit frame.
-    let traces: Vec<Vec<(f64, f64)>> = m
-        .picture
-        .traces
-        .iter()
-        .map(|(_, path)| {
-            path.iter()
-                .map(|&p| unit(p))
-                .filter(|p| p[0].is_finite() && p[1].is_finite())
-                .map(|p| (p[0], p[1]))
-                .collect()
-        })
-        .collect();
+    let traces = &m.picture.traces;
     let l = &m.analysis().linkage;
     let pos: Vec<[f64; 2]> = m.cursor.positions.iter().map(|&p| unit(p)).collect();
     let ccv = &m.solved().complexity.ccv;
@@ -240,7 +217,7 @@ fn draw_linkage(frame: &mut Frame, m: &Model, area: Rect, theme: Theme) {
         Span::styled(format!("· {} {}", motion_label(m), cut_note(m)), theme.dim()),
     ]);
     let canvas = braille(title, xb, yb, |ctx| {
-        for (k, t) in traces.iter().enumerate() {
+        for (k, (_, t)) in traces.iter().enumerate() {
             ctx.draw(&Points::new(t, theme.trace(k)));
         }
         ctx.layer();
