@@ -20,7 +20,9 @@ use crate::scene::{Scene, SceneError};
 pub struct GraphReport {
     /// The scene's name.
     pub scene: String,
+    /// Every joint, in scene order (DOT ids `j1`, `j2`, … follow it).
     pub joints: Vec<JointOut>,
+    /// Every bar, in scene order.
     pub bars: Vec<BarOut>,
     /// Rigid bodies, each as its joints' names.
     pub bodies: Vec<Vec<String>>,
@@ -38,10 +40,13 @@ pub struct GraphReport {
 
 #[derive(Debug, Clone, PartialEq, Serialize, JsonSchema)]
 pub struct JointOut {
+    /// The joint's name in the scene.
     pub name: String,
+    /// Whether the joint is fixed to the ground.
     pub ground: bool,
-    /// Position as drawn.
+    /// Position as drawn (x).
     pub x: f64,
+    /// Position as drawn (y, up).
     pub y: f64,
 }
 
@@ -69,7 +74,9 @@ pub struct StepOut {
     pub number: usize,
     /// The joint placed: `vertex ◁ (u, w)`.
     pub vertex: String,
+    /// The placed joint that `vertex` is at a fixed distance from, in the first cluster.
     pub u: String,
+    /// The same in the second cluster.
     pub w: String,
     /// The clusters (numbers as in `clusters`) holding `u`–`vertex` and `w`–`vertex`.
     pub clusters: [usize; 2],
@@ -81,6 +88,7 @@ pub struct StepOut {
 pub struct OutsideOut {
     /// Machine name, e.g. `disconnected`, `rigid`.
     pub kind: String,
+    /// The reason in a sentence naming joints and bars.
     pub reason: String,
 }
 

@@ -127,7 +127,9 @@ pub enum Constraint {
 /// A joint as a node of the [`LinkageGraph`]; its node index is its joint index.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct JointNode {
+    /// The joint's name in the scene.
     pub name: String,
+    /// Whether the joint is fixed to the ground.
     pub ground: bool,
 }
 
