@@ -14,5 +14,6 @@ pub mod builder;
 pub mod bundled;
 pub mod commands;
 pub mod generate;
+pub mod graph;
 pub mod report;
 pub mod tui;

@@ -32,6 +32,14 @@ enum Format {
     Json,
 }
 
+/// Output of `caymos graph`.
+#[derive(Clone, Copy, Debug, ValueEnum, PartialEq, Eq)]
+enum GraphFormat {
+    /// Graphviz DOT (`caymos graph jansen | dot -Tsvg > jansen.svg`).
+    Dot,
+    Json,
+}
+
 /// How the motion commands analyse the scene before they walk it.
 #[derive(Args, Debug, Clone)]
 struct AnalysisArgs {
@@ -101,6 +109,16 @@ enum Command {
     },
     /// List the bundled scenes.
     List,
+    /// The linkage graph and its decomposition for Graphviz: joints, bars, clusters, base, construction steps.
+    Graph {
+        /// A scene file, or the name of a bundled scene (default: the Jansen leg).
+        scene: Option<String>,
+        #[arg(long, value_enum, default_value = "dot")]
+        format: GraphFormat,
+        /// The base non-edge as two joint names, e.g. `--base P,X`.
+        #[arg(long)]
+        base: Option<String>,
+    },
     /// Both motion paths between two realizations (`drawn` or TYPE@LAMBDA), or the closest pair.
     Path {
         scene: Option<String>,
@@ -265,6 +283,23 @@ fn run(command: Command) -> Result<u8, Failure> {
                 Format::Text => emit(&report.to_text_with(all)),
             }
             Ok(if report.one_dof_tree_decomposable { 0 } else { 2 })
+        }
+        Command::Graph { scene, format, base } => {
+            let scene = bundled::resolve(scene.as_deref())?;
+            let base = base.map(|b| parse_base(&scene, &b)).transpose()?;
+            let graph = caymos::graph::graph_report(&scene, base)?;
+            match format {
+                GraphFormat::Json => emit(&format!("{}\n", serde_json::to_string_pretty(&graph).expect("serializes"))),
+                GraphFormat::Dot => emit(&caymos::graph::to_dot(&graph)),
+            }
+            // Like `report`: outside the handled class exits 2 (the linkage is still exported).
+            match &graph.outside {
+                Some(o) => {
+                    eprintln!("caymos: {}: outside the handled class: {}", scene.source, o.reason);
+                    Ok(2)
+                }
+                None => Ok(0),
+            }
         }
         Command::Path { scene, from, to, format, analysis, walk } => {
             let (a, mut s) = solved(scene.as_deref(), &analysis)?;

@@ -1,9 +1,13 @@
 //! The terminal UI's state and its update: actions in, new state out. No
 //! terminal here, so every behaviour is testable with a list of key presses.
+//! Everything the drawing shows is computed here, after each update and tick
+//! ([`Model::sync`]); the view only reads.
+
+use nalgebra::{Rotation3, Vector3};
 
 use crate::analysis::{Analysis, Solved};
 use crate::commands::{self, PathReport, Walk};
-use crate::distance::cayley_vector;
+use crate::distance::{cayley_vector, mirror_images_exist};
 use crate::motion::{Realization, Segment, Stepper, arcs, component_segments, locate, realization_at};
 use crate::realize::{P2, RealizationType};
 use crate::report::fmt_num;
@@ -19,6 +23,7 @@ pub enum View {
 }
 
 /// What stepping follows: a whole component (a cycle) or one path from A to B.
+/// Indices are 0-based here; the view shows them 1-based.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Motion {
     Component(usize),
@@ -32,46 +37,93 @@ pub struct Mark {
     pub component: usize,
 }
 
-/// The state of an analysed scene in the UI.
-pub struct Model {
-    pub analysis: Analysis,
-    pub solved: Solved,
+/// Where we are: the motion followed, the point on it and its realization.
+#[derive(Clone, Debug)]
+pub struct Cursor {
     pub motion: Motion,
+    /// The component the current realization lies in (0-based).
+    pub component: usize,
     /// Segments of the current motion, and where we are on them.
     pub segments: Vec<Segment>,
     pub seg: usize,
     pub lambda: f64,
     /// The current realization, display frame.
     pub positions: Vec<P2<f64>>,
-    /// The component the current realization lies in.
-    pub component: usize,
+    /// Its complete Cayley vector (kept with `positions`).
+    pub cayley: Vec<f64>,
+    /// Bumped whenever `segments` change, so the samples know they are stale.
+    generation: u64,
+}
+
+/// How far a step goes, and whether the motion plays.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Pace {
     /// Geometric step (largest joint move per small step), scene units.
     pub step: f64,
     /// The drawing's extent (bounding-box diagonal): the unit of steps.
     pub extent: f64,
     pub playing: bool,
-    pub marks: [Option<Mark>; 2],
+}
+
+/// Marks A and B, and what joins them.
+#[derive(Clone, Debug, Default)]
+pub struct Marks {
+    pub slots: [Option<Mark>; 2],
     pub path: Option<PathReport>,
     /// Arc segments of the path A→B (when in one component).
-    pub path_arcs: Option<[Vec<Segment>; 2]>,
-    pub traces_on: bool,
+    pub arcs: Option<[Vec<Segment>; 2]>,
+}
+
+/// Which joints leave traces.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Traces {
+    pub on: bool,
     pub traced: Vec<bool>,
-    pub selected_joint: usize,
-    pub view: View,
+    pub selected: usize,
+}
+
+/// The Cayley curve's camera: three Cayley-vector entries as axes, turned
+/// by `yaw` about the vertical axis, then tilted by `pitch`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Camera {
     pub yaw: f64,
     pub pitch: f64,
     /// Indices into the complete Cayley vector used as the curve's axes.
     pub axes: [usize; 3],
-    /// Samples of the current motion: positions and Cayley vectors, kept in
-    /// step with `segments` by every update (drawing only reads them).
-    pub cache: Option<MotionSamples>,
-    /// Bumped whenever `segments` change, so the cache knows it is stale.
-    generation: u64,
-    /// Joints' bounding box over the current component's motion, for a steady view.
-    pub bounds: [f64; 4],
 }
 
-/// Samples of the current motion (for traces and the Cayley curve).
+/// How far `r`/`R` turn and `e`/`E` tilt, in radians, and the largest tilt.
+pub const CAMERA_TURN: f64 = 0.15;
+pub const CAMERA_MAX_PITCH: f64 = 1.5;
+
+impl Camera {
+    /// The rotation: yaw about the vertical (y) axis, then pitch about x.
+    pub fn rotation(&self) -> Rotation3<f64> {
+        Rotation3::from_axis_angle(&Vector3::x_axis(), self.pitch)
+            * Rotation3::from_axis_angle(&Vector3::y_axis(), self.yaw)
+    }
+
+    /// The next triple of axes in lexicographic order (out of `n` entries); unchanged for n ≤ 3.
+    fn next_axes(&mut self, n: usize) {
+        if n <= 3 {
+            return;
+        }
+        let mut t = self.axes;
+        t[2] += 1;
+        if t[2] >= n {
+            t[1] += 1;
+            if t[1] >= n - 1 {
+                t[0] = (t[0] + 1) % (n - 2);
+                t[1] = t[0] + 1;
+            }
+            t[2] = t[1] + 1;
+        }
+        self.axes = t;
+    }
+}
+
+/// Samples of the current motion: positions and Cayley vectors.
+#[derive(Clone, Debug, Default)]
 pub struct MotionSamples {
     pub generation: u64,
     pub positions: Vec<Vec<P2<f64>>>,
@@ -81,6 +133,53 @@ pub struct MotionSamples {
     pub jumps: Vec<bool>,
     /// The motion was longer than the sample budget: only its start is shown.
     pub truncated: bool,
+}
+
+/// The Cayley curve, projected: runs of one type (index into the types
+/// met, for colour) not crossing a jump, and the current point.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Curve {
+    pub runs: Vec<(usize, Vec<(f64, f64)>)>,
+    pub here: (f64, f64),
+    /// The samples' range on each axis, which scales it to [-1, 1].
+    pub range: AxisRange,
+}
+
+/// Per axis, the smallest and largest value.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct AxisRange {
+    pub lo: Vector3<f64>,
+    pub hi: Vector3<f64>,
+}
+
+/// What the drawing reads, derived from the state by [`Model::sync`].
+#[derive(Clone, Debug, Default)]
+pub struct Picture {
+    /// Joints' bounding box over the current component's motion, for a steady view.
+    pub bounds: [f64; 4],
+    pub samples: MotionSamples,
+    /// Each traced joint's path over the samples, in the unit frame of
+    /// `bounds` (see [`unit_frame`]) where finite, when traces are on.
+    pub traces: Vec<(usize, Vec<(f64, f64)>)>,
+    pub curve: Curve,
+    /// The curve stands for mirror pairs (every cluster is symmetric).
+    pub mirror: bool,
+    /// What the traces and curve were made from, to redo them only when it changes.
+    made_from: Option<(u64, Camera, Traces)>,
+}
+
+/// The state of an analysed scene in the UI.
+pub struct Model {
+    /// The one analysis: its outcome is the solved scene (see [`Model::solved`]),
+    /// extended in place when a lazy analysis walks more components.
+    analysis: Analysis,
+    pub cursor: Cursor,
+    pub pace: Pace,
+    pub marks: Marks,
+    pub traces: Traces,
+    pub camera: Camera,
+    pub view: View,
+    pub picture: Picture,
 }
 
 /// The whole UI state.
@@ -123,7 +222,7 @@ impl App {
         }
     }
 
-    /// Take the finished analysis.
+    /// Take the finished analysis (moved in, never copied).
     pub fn loaded(&mut self, analysis: Result<Analysis, String>) {
         let scene = match &self.screen {
             Screen::Loading { scene, .. } => scene.clone(),
@@ -131,14 +230,14 @@ impl App {
         };
         self.screen = match analysis {
             Err(message) => Screen::Failed { scene, message },
-            Ok(a) => match a.outcome.clone() {
+            Ok(a) => match &a.outcome {
                 Err(outside) => {
                     let message = format!("outside the handled class: {}", outside.describe(&a.linkage));
                     Screen::Failed { scene: a.scene.name.clone(), message }
                 }
-                Ok(solved) => match commands::no_realization(&a, &solved) {
+                Ok(solved) => match commands::no_realization(&a, solved) {
                     Some(why) => Screen::Empty { analysis: Box::new(a), why },
-                    None => Screen::Ready(Box::new(Model::new(a, solved))),
+                    None => Screen::Ready(Box::new(Model::new(a))),
                 },
             },
         };
@@ -181,7 +280,7 @@ impl App {
                 Ok(None) => self.message = m.note_for(other),
             },
         }
-        m.sync_samples();
+        m.sync();
     }
 
     /// A character typed while the `g` prompt is open; Enter applies it.
@@ -202,33 +301,50 @@ impl App {
         let Some(text) = self.input.take() else { return };
         if let Screen::Ready(m) = &mut self.screen {
             self.message = m.go_to(text.trim()).err();
-            m.sync_samples();
+            m.sync();
         }
     }
 
     /// One animation frame.
     pub fn tick(&mut self) {
         if let Screen::Ready(m) = &mut self.screen
-            && m.playing
+            && m.pace.playing
         {
-            match m.move_by(1, m.step) {
+            match m.move_by(1, m.pace.step) {
                 Ok(None) => {}
                 Ok(Some(note)) => self.message = Some(note),
-                Err(_) => m.playing = false,
+                Err(_) => m.pace.playing = false,
             }
+            m.sync();
         }
     }
 
     pub fn animating(&self) -> bool {
-        self.model().is_some_and(|m| m.playing)
+        self.model().is_some_and(|m| m.pace.playing)
+    }
+}
+
+/// The solved scene of an analysis a [`Model`] was made from.
+fn solved_of(a: &Analysis) -> &Solved {
+    match &a.outcome {
+        Ok(s) => s,
+        Err(_) => unreachable!("a Model is made only from a solved analysis (App::loaded)"),
+    }
+}
+
+fn solved_of_mut(a: &mut Analysis) -> &mut Solved {
+    match &mut a.outcome {
+        Ok(s) => s,
+        Err(_) => unreachable!("a Model is made only from a solved analysis (App::loaded)"),
     }
 }
 
 impl Model {
-    pub fn new(analysis: Analysis, solved: Solved) -> Model {
+    /// A model on a solved analysis with at least one component (see [`App::loaded`]).
+    fn new(analysis: Analysis) -> Model {
+        let solved = solved_of(&analysis);
         let n = analysis.linkage.n_joints();
         let extent = commands::drawing_extent(&analysis);
-        let step = tolerance::TUI_STEP_FRACTION * extent;
         let mut traced = vec![false; n];
         if let Some(last) = traced.last_mut() {
             *last = true; // the last joint is usually the coupler point or the foot
@@ -236,94 +352,101 @@ impl Model {
         // Until a realization is computed: the drawn one (never empty).
         let positions = solved.drawn_positions.clone().unwrap_or_else(|| analysis.linkage.drawn.clone());
         let ccv_len = solved.complexity.ccv.len();
+        let cayley = cayley_vector(&positions, &solved.complexity.ccv);
         let axes = [0, 1.min(ccv_len.saturating_sub(1)), 2.min(ccv_len.saturating_sub(1))];
+        let picture = Picture { mirror: mirror_images_exist(&solved.construction, &solved.dec), ..Picture::default() };
         let mut m = Model {
-            analysis,
-            solved,
-            motion: Motion::Component(0),
-            segments: Vec::new(),
-            seg: 0,
-            lambda: 0.0,
-            positions,
-            component: 0,
-            step,
-            extent,
-            playing: false,
-            marks: [None, None],
-            path: None,
-            path_arcs: None,
-            traces_on: true,
-            traced,
-            selected_joint: n.saturating_sub(1),
+            cursor: Cursor {
+                motion: Motion::Component(0),
+                component: 0,
+                segments: Vec::new(),
+                seg: 0,
+                lambda: 0.0,
+                positions,
+                cayley,
+                generation: 0,
+            },
+            pace: Pace { step: tolerance::TUI_STEP_FRACTION * extent, extent, playing: false },
+            marks: Marks::default(),
+            traces: Traces { on: true, traced, selected: n.saturating_sub(1) },
+            camera: Camera { yaw: 0.6, pitch: 0.35, axes },
             view: View::Linkage,
-            yaw: 0.6,
-            pitch: 0.35,
-            axes,
-            cache: None,
-            generation: 0,
-            bounds: [0.0; 4],
+            picture,
+            analysis,
         };
         m.reset();
-        m.sync_samples();
+        m.sync();
         m
     }
 
+    /// The analysis explored (scene, linkage, warnings; its outcome is [`Self::solved`]).
+    pub fn analysis(&self) -> &Analysis {
+        &self.analysis
+    }
+
+    /// The solved scene: the one value the commands take too.
+    pub fn solved(&self) -> &Solved {
+        solved_of(&self.analysis)
+    }
+
     pub fn n_components(&self) -> usize {
-        self.solved.components.list.len()
+        self.solved().components.list.len()
     }
 
     /// Current realization as type and λ.
     pub fn current(&self) -> Realization {
-        Realization { ty: self.segments[self.seg].ty.clone(), lambda: self.lambda }
+        let c = &self.cursor;
+        Realization { ty: c.segments[c.seg].ty.clone(), lambda: c.lambda }
     }
 
     /// Steps flat at the current point (when exactly on an interval endpoint).
     pub fn flat_here(&self) -> &[usize] {
-        let s = &self.segments[self.seg];
-        if self.lambda == s.to {
+        let c = &self.cursor;
+        let s = &c.segments[c.seg];
+        if c.lambda == s.to {
             &s.flat_to
-        } else if self.lambda == s.from {
+        } else if c.lambda == s.from {
             &s.flat_from
         } else {
             &[]
         }
     }
 
-    pub fn cayley_vector(&self) -> Vec<f64> {
-        cayley_vector(&self.positions, &self.solved.complexity.ccv)
-    }
-
     /// Back to the drawn realization, in its component.
     pub fn reset(&mut self) {
-        let s = &self.solved;
-        let drawn = Realization { ty: s.drawn.ty.clone(), lambda: s.drawn.lambda };
-        let at = s.drawn_interval.map(|i| (i, drawn.lambda));
-        self.playing = false;
-        self.enter_component(s.drawn_component.unwrap_or(0), at);
+        let s = self.solved();
+        let at = s.drawn_interval.map(|i| (i, s.drawn.lambda));
+        let k = s.drawn_component.unwrap_or(0);
+        self.pace.playing = false;
+        self.enter_component(k, at);
     }
 
     /// Follow component `k`, standing at (interval, λ) or at its start.
     fn enter_component(&mut self, k: usize, at: Option<(usize, f64)>) {
-        self.motion = Motion::Component(k);
-        self.component = k;
-        self.segments = component_segments(&self.solved.space, &self.solved.components.list[k]);
-        self.generation += 1;
+        let s = solved_of(&self.analysis);
+        let c = &mut self.cursor;
+        c.motion = Motion::Component(k);
+        c.component = k;
+        c.segments = component_segments(&s.space, &s.components.list[k]);
+        c.generation += 1;
         let (seg, lambda) = at
-            .and_then(|(i, l)| self.segments.iter().position(|s| s.interval == i).map(|p| (p, l)))
-            .unwrap_or((0, self.segments[0].from));
-        self.seg = seg;
-        self.lambda = lambda;
+            .and_then(|(i, l)| c.segments.iter().position(|s| s.interval == i).map(|p| (p, l)))
+            .unwrap_or((0, c.segments[0].from));
+        c.seg = seg;
+        c.lambda = lambda;
         self.refresh();
-        self.bounds = self.component_bounds();
+        self.picture.bounds = self.component_bounds();
     }
 
     /// Positions at the current λ; where none can be computed (or they are
     /// not finite) the last ones stay, and `false` says so.
     fn refresh(&mut self) -> bool {
-        let a = &self.analysis;
-        match realization_at(&self.solved.construction, &a.linkage, &self.segments[self.seg], self.lambda) {
+        let s = solved_of(&self.analysis);
+        let c = &mut self.cursor;
+        match realization_at(&s.construction, &self.analysis.linkage, &c.segments[c.seg], c.lambda) {
             Some(p) => {
-                self.positions = p;
+                c.cayley = cayley_vector(&p, &s.complexity.ccv);
+                c.positions = p;
                 true
             }
             None => false,
@@ -331,37 +454,38 @@ impl Model {
     }
 
     fn cyclic(&self) -> bool {
-        matches!(self.motion, Motion::Component(_))
+        matches!(self.cursor.motion, Motion::Component(_))
     }
 
     /// Segments from the current point onward (`dir` = 1) or backward, with
     /// each one's index in `segments`; a component wraps around once.
     fn ahead(&self, dir: i8) -> Vec<(usize, Segment)> {
-        let m = self.segments.len();
-        let cur = &self.segments[self.seg];
+        let c = &self.cursor;
+        let m = c.segments.len();
+        let cur = &c.segments[c.seg];
         let mut out = Vec::new();
         if dir > 0 {
-            let flat_from = if self.lambda == cur.from { cur.flat_from.clone() } else { Vec::new() };
-            out.push((self.seg, Segment { from: self.lambda, flat_from, ..cur.clone() }));
+            let flat_from = if c.lambda == cur.from { cur.flat_from.clone() } else { Vec::new() };
+            out.push((c.seg, Segment { from: c.lambda, flat_from, ..cur.clone() }));
             for k in 1..=m {
-                let i = self.seg + k;
+                let i = c.seg + k;
                 if i >= m && !self.cyclic() {
                     break;
                 }
-                out.push((i % m, self.segments[i % m].clone()));
+                out.push((i % m, c.segments[i % m].clone()));
             }
         } else {
-            let flat_from = if self.lambda == cur.to { cur.flat_to.clone() } else { Vec::new() };
+            let flat_from = if c.lambda == cur.to { cur.flat_to.clone() } else { Vec::new() };
             out.push((
-                self.seg,
-                Segment { from: self.lambda, to: cur.from, flat_from, flat_to: cur.flat_from.clone(), ..cur.clone() },
+                c.seg,
+                Segment { from: c.lambda, to: cur.from, flat_from, flat_to: cur.flat_from.clone(), ..cur.clone() },
             ));
             for k in 1..=m {
-                if self.seg < k && !self.cyclic() {
+                if c.seg < k && !self.cyclic() {
                     break;
                 }
-                let i = (self.seg + m * 2 - k) % m;
-                out.push((i, self.segments[i].reversed()));
+                let i = (c.seg + m * 2 - k) % m;
+                out.push((i, c.segments[i].reversed()));
             }
         }
         out
@@ -372,14 +496,16 @@ impl Model {
     pub fn move_by(&mut self, dir: i8, bound: f64) -> Result<Option<String>, String> {
         let ahead = self.ahead(dir);
         let segs: Vec<Segment> = ahead.iter().map(|(_, s)| s.clone()).collect();
-        let a = &self.analysis;
-        let mut walk = Stepper::new(&self.solved.construction, &a.linkage, segs, bound).with_budget(2);
+        let s = solved_of(&self.analysis);
+        let mut walk = Stepper::new(&s.construction, &self.analysis.linkage, segs, bound).with_budget(2);
         walk.next();
         match walk.next() {
             Some(sample) => {
-                self.seg = ahead[sample.segment].0;
-                self.lambda = sample.lambda;
-                self.positions = sample.positions;
+                let c = &mut self.cursor;
+                c.seg = ahead[sample.segment].0;
+                c.lambda = sample.lambda;
+                c.cayley = cayley_vector(&sample.positions, &s.complexity.ccv);
+                c.positions = sample.positions;
                 Ok(sample.jump.then(|| {
                     format!(
                         "jumped at λ = {}: a degenerate pass (joints move farther than the step between adjacent λ)",
@@ -396,9 +522,10 @@ impl Model {
 
     /// Jump to the next (or previous) interval endpoint along the motion.
     fn jump(&mut self, dir: i8) -> Result<(), String> {
-        let (i, s) = self.ahead(dir).into_iter().find(|(_, s)| s.to != self.lambda).ok_or("end of the path")?;
-        self.seg = i;
-        self.lambda = s.to;
+        let lambda = self.cursor.lambda;
+        let (i, s) = self.ahead(dir).into_iter().find(|(_, s)| s.to != lambda).ok_or("end of the path")?;
+        self.cursor.seg = i;
+        self.cursor.lambda = s.to;
         self.refreshed()
     }
 
@@ -409,57 +536,60 @@ impl Model {
         } else {
             Err(format!(
                 "no realization could be computed at λ = {}: the joints shown are the last ones computed",
-                fmt_num(self.lambda)
+                fmt_num(self.cursor.lambda)
             ))
         }
     }
 
+    /// Where we stand as (interval, λ).
+    fn here(&self) -> (usize, f64) {
+        (self.cursor.segments[self.cursor.seg].interval, self.cursor.lambda)
+    }
+
     /// Apply an action; `Ok(Some(note))` when it has something to say.
     fn apply(&mut self, action: Action) -> Result<Option<String>, String> {
+        let step = self.pace.step;
         match action {
-            Action::StepForward => return self.move_by(1, self.step),
-            Action::StepBack => return self.move_by(-1, self.step),
-            Action::LargeForward => return self.move_by(1, self.step * 10.0),
-            Action::LargeBack => return self.move_by(-1, self.step * 10.0),
+            Action::StepForward => return self.move_by(1, step),
+            Action::StepBack => return self.move_by(-1, step),
+            Action::LargeForward => return self.move_by(1, step * 10.0),
+            Action::LargeBack => return self.move_by(-1, step * 10.0),
             Action::NextEndpoint => self.jump(1)?,
             Action::PrevEndpoint => self.jump(-1)?,
-            Action::PlayPause => self.playing = !self.playing,
+            Action::PlayPause => self.pace.playing = !self.pace.playing,
             Action::NextComponent | Action::PrevComponent => {
-                // A lazy analysis walks the next component when asked for it.
+                // A lazy analysis walks the next component when asked for it,
+                // into the one analysis (indices already known stay valid).
                 let mut note = None;
-                if action == Action::NextComponent && self.solved.lazy && self.component + 1 == self.n_components() {
+                let k = self.cursor.component;
+                if action == Action::NextComponent && self.solved().lazy && k + 1 == self.n_components() {
                     let before = self.n_components();
-                    if commands::walk_components(&mut self.solved, before + 1) == before {
-                        note = Some(commands::missing_component(&self.solved, before));
+                    let s = solved_of_mut(&mut self.analysis);
+                    if commands::walk_components(s, before + 1) == before {
+                        // The missing component's number as shown: 1-based.
+                        note = Some(commands::missing_component(s, before + 1));
                     }
                 }
                 let n = self.n_components();
-                let k = if action == Action::NextComponent {
-                    (self.component + 1) % n
-                } else {
-                    (self.component + n - 1) % n
-                };
-                self.enter_component(k, None);
+                let next = if action == Action::NextComponent { (k + 1) % n } else { (k + n - 1) % n };
+                self.enter_component(next, None);
                 return Ok(note);
             }
             Action::MarkA | Action::MarkB => {
                 let slot = usize::from(action == Action::MarkB);
-                let component = self.solved.components.of_interval[self.segments[self.seg].interval];
-                self.marks[slot] = Some(Mark { at: self.current(), component });
+                let component = self.solved().components.of_interval[self.here().0];
+                self.marks.slots[slot] = Some(Mark { at: self.current(), component });
                 self.update_path()?;
             }
             Action::ClearMarks => {
-                self.marks = [None, None];
-                self.path = None;
-                self.path_arcs = None;
-                if let Motion::Path { .. } = self.motion {
-                    let at = (self.segments[self.seg].interval, self.lambda);
-                    self.enter_component(self.component, Some(at));
+                self.marks = Marks::default();
+                if let Motion::Path { .. } = self.cursor.motion {
+                    self.enter_component(self.cursor.component, Some(self.here()));
                 }
             }
             Action::FollowArc1 | Action::FollowArc2 => {
                 let arc = usize::from(action == Action::FollowArc2);
-                let Some(arcs) = &self.path_arcs else {
+                let Some(arcs) = &self.marks.arcs else {
                     return Err("mark A and B in one component first (a, then b)".into());
                 };
                 if arcs[arc].is_empty() {
@@ -468,53 +598,41 @@ impl Model {
                         2 - arc
                     ));
                 }
-                self.segments = arcs[arc].clone();
-                self.generation += 1;
-                self.motion = Motion::Path { arc };
-                self.component = self.solved.components.of_interval[self.segments[0].interval];
-                self.seg = 0;
-                self.lambda = self.segments[0].from;
+                let segments = arcs[arc].clone();
+                let c = &mut self.cursor;
+                c.component = solved_of(&self.analysis).components.of_interval[segments[0].interval];
+                c.lambda = segments[0].from;
+                c.segments = segments;
+                c.generation += 1;
+                c.motion = Motion::Path { arc };
+                c.seg = 0;
                 self.refreshed()?;
             }
             Action::FollowComponent => {
-                if let Motion::Path { .. } = self.motion {
-                    let at = (self.segments[self.seg].interval, self.lambda);
-                    self.enter_component(self.component, Some(at));
+                if let Motion::Path { .. } = self.cursor.motion {
+                    self.enter_component(self.cursor.component, Some(self.here()));
                 }
             }
-            Action::ToggleTraces => self.traces_on = !self.traces_on,
-            Action::NextJoint => self.selected_joint = (self.selected_joint + 1) % self.traced.len(),
+            Action::ToggleTraces => self.traces.on = !self.traces.on,
+            Action::NextJoint => self.traces.selected = (self.traces.selected + 1) % self.traces.traced.len(),
             Action::ToggleJointTrace => {
-                let j = self.selected_joint;
-                self.traced[j] = !self.traced[j];
-                self.traces_on = true;
+                let j = self.traces.selected;
+                self.traces.traced[j] = !self.traces.traced[j];
+                self.traces.on = true;
             }
             Action::SwitchView => {
                 self.view = if self.view == View::Linkage { View::CayleyCurve } else { View::Linkage };
             }
-            Action::RotateLeft => self.yaw -= 0.15,
-            Action::RotateRight => self.yaw += 0.15,
-            Action::TiltUp => self.pitch = (self.pitch + 0.15).min(1.5),
-            Action::TiltDown => self.pitch = (self.pitch - 0.15).max(-1.5),
+            Action::RotateLeft => self.camera.yaw -= CAMERA_TURN,
+            Action::RotateRight => self.camera.yaw += CAMERA_TURN,
+            Action::TiltUp => self.camera.pitch = (self.camera.pitch + CAMERA_TURN).min(CAMERA_MAX_PITCH),
+            Action::TiltDown => self.camera.pitch = (self.camera.pitch - CAMERA_TURN).max(-CAMERA_MAX_PITCH),
             Action::NextAxes => {
-                let n = self.solved.complexity.ccv.len();
-                if n > 3 {
-                    // Cycle through the triples in lexicographic order.
-                    let mut t = self.axes;
-                    t[2] += 1;
-                    if t[2] >= n {
-                        t[1] += 1;
-                        if t[1] >= n - 1 {
-                            t[0] = (t[0] + 1) % (n - 2);
-                            t[1] = t[0] + 1;
-                        }
-                        t[2] = t[1] + 1;
-                    }
-                    self.axes = t;
-                }
+                let n = self.solved().complexity.ccv.len();
+                self.camera.next_axes(n);
             }
-            Action::StepBigger => self.step = (self.step * 2.0).min(self.extent),
-            Action::StepSmaller => self.step = (self.step / 2.0).max(self.extent * 1e-6),
+            Action::StepBigger => self.pace.step = (step * 2.0).min(self.pace.extent),
+            Action::StepSmaller => self.pace.step = (step / 2.0).max(self.pace.extent * 1e-6),
             Action::Reset => self.reset(),
             Action::GoTo | Action::Help | Action::Quit => {}
         }
@@ -524,7 +642,7 @@ impl Model {
     /// A status line after some actions.
     fn note_for(&self, action: Action) -> Option<String> {
         match action {
-            Action::MarkA | Action::MarkB => Some(match (&self.marks, &self.path) {
+            Action::MarkA | Action::MarkB => Some(match (&self.marks.slots, &self.marks.path) {
                 ([Some(_), Some(_)], Some(p)) if p.same_component => {
                     let n: Vec<String> = p.paths.iter().map(|x| x.n_intervals.to_string()).collect();
                     format!("A and B share a component: two paths of {} intervals (1/2 to follow)", n.join(" and "))
@@ -542,86 +660,104 @@ impl Model {
                 },
                 _ => format!("marked {}", if action == Action::MarkA { "A" } else { "B" }),
             }),
-            Action::StepBigger | Action::StepSmaller => Some(format!("step {}", fmt_num(self.step))),
+            Action::StepBigger | Action::StepSmaller => Some(format!("step {}", fmt_num(self.pace.step))),
             _ => None,
         }
     }
 
     fn update_path(&mut self) -> Result<(), String> {
-        self.path = None;
-        self.path_arcs = None;
-        let [Some(a), Some(b)] = &self.marks else { return Ok(()) };
-        let (an, s) = (&self.analysis, &self.solved);
-        let walk = Walk { step: self.step, max_samples: tolerance::TUI_MAX_SAMPLES };
+        self.marks.path = None;
+        self.marks.arcs = None;
+        let [Some(a), Some(b)] = &self.marks.slots else { return Ok(()) };
+        let (an, s) = (&self.analysis, solved_of(&self.analysis));
+        let walk = Walk { step: self.pace.step, max_samples: tolerance::TUI_MAX_SAMPLES };
         let report = commands::path(an, s, &a.at.to_string(), &b.at.to_string(), walk)?;
         if report.same_component {
             let ia = locate(&s.space, &a.at, an.linkage.scale).ok_or("A is no longer located")?;
             let ib = locate(&s.space, &b.at, an.linkage.scale).ok_or("B is no longer located")?;
             let comp = &s.components.list[s.components.of_interval[ia]];
-            self.path_arcs = arcs(&s.space, comp, (ia, a.at.lambda), (ib, b.at.lambda));
+            self.marks.arcs = arcs(&s.space, comp, (ia, a.at.lambda), (ib, b.at.lambda));
         }
-        self.path = Some(report);
+        self.marks.path = Some(report);
         Ok(())
     }
 
-    /// `λ` (in the current component, nearest occurrence) or `TYPE@λ`.
+    /// `λ` (in the current component, nearest occurrence) or `TYPE@λ`; a
+    /// lazy analysis walks the component through `TYPE@λ` into the one analysis.
     pub fn go_to(&mut self, text: &str) -> Result<(), String> {
         let scale = self.analysis.linkage.scale;
         if text.contains('@') || text == "drawn" {
-            commands::include_specs(&mut self.solved, &[text]);
-            let s = &self.solved;
-            let (r, i) = commands::resolve_realization(&self.analysis, s, text)?;
-            let k = s.components.of_interval[i];
+            commands::include_specs(solved_of_mut(&mut self.analysis), &[text]);
+            let (r, i) = commands::resolve_realization(&self.analysis, self.solved(), text)?;
+            let k = self.solved().components.of_interval[i];
             self.enter_component(k, Some((i, r.lambda)));
             return Ok(());
         }
         let lambda: f64 =
             text.parse().map_err(|_| format!("\"{text}\": type a λ like 41.2, or TYPE@λ like -+-+@41.2"))?;
         // Prefer the current type, then any interval of the current motion.
-        let here = &self.segments[self.seg].ty;
-        let candidates: Vec<usize> = (0..self.segments.len())
+        let c = &self.cursor;
+        let here = &c.segments[c.seg].ty;
+        let candidates: Vec<usize> = (0..c.segments.len())
             .filter(|&i| {
-                let sg = &self.segments[i];
+                let sg = &c.segments[i];
                 lambda >= sg.from.min(sg.to) - 1e-12 * scale && lambda <= sg.from.max(sg.to) + 1e-12 * scale
             })
             .collect();
-        let pick = candidates.iter().copied().find(|&i| &self.segments[i].ty == here).or(candidates.first().copied());
+        let pick = candidates.iter().copied().find(|&i| &c.segments[i].ty == here).or(candidates.first().copied());
         match pick {
             Some(i) => {
-                self.seg = i;
-                self.lambda = lambda;
+                self.cursor.seg = i;
+                self.cursor.lambda = lambda;
                 self.refreshed()
             }
             None => Err(format!("λ = {lambda} is not reached by this motion")),
         }
     }
 
-    /// Bring the samples of the current motion (traces, Cayley curve) up to
-    /// date: walked within the UI's budgets, at most a few million numbers.
-    pub fn sync_samples(&mut self) {
-        if self.cache.as_ref().is_some_and(|c| c.generation == self.generation) {
-            return;
+    /// Bring what the drawing reads up to date: the samples of the current
+    /// motion (walked within the UI's budgets, at most a few million
+    /// numbers) when the motion changed; the traces and the projected curve
+    /// when the samples, the traced joints or the camera changed; the
+    /// current point on the curve always.
+    pub fn sync(&mut self) {
+        if self.picture.samples.generation != self.cursor.generation {
+            self.picture.samples = self.walk_samples();
         }
-        let a = &self.analysis;
-        let bound = tolerance::TUI_TRACE_STEP_FRACTION * self.extent;
-        let per_sample = a.linkage.n_joints() + self.solved.complexity.ccv.len();
+        let key = (self.cursor.generation, self.camera, self.traces.clone());
+        if self.picture.made_from.as_ref() != Some(&key) {
+            let p = &mut self.picture;
+            p.traces = trace_paths(&p.samples, &self.traces, p.bounds);
+            p.curve.range = axis_range(&p.samples, &self.camera);
+            p.curve.runs = curve_runs(&p.samples, &self.camera, &p.curve.range);
+            p.made_from = Some(key);
+        }
+        let curve = &mut self.picture.curve;
+        curve.here = project(&curve.range, &self.camera, &self.cursor.cayley);
+    }
+
+    /// The samples of the current motion (for traces and the Cayley curve).
+    fn walk_samples(&self) -> MotionSamples {
+        let (a, s) = (&self.analysis, self.solved());
+        let bound = tolerance::TUI_TRACE_STEP_FRACTION * self.pace.extent;
+        let per_sample = a.linkage.n_joints() + s.complexity.ccv.len();
         let limit = (tolerance::TUI_MAX_NUMBERS / per_sample.max(1)).clamp(2, tolerance::TUI_MAX_SAMPLES);
         let mut walk =
-            Stepper::new(&self.solved.construction, &a.linkage, self.segments.clone(), bound).with_budget(limit);
-        let (mut positions, mut cayley, mut types, mut jumps) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+            Stepper::new(&s.construction, &a.linkage, self.cursor.segments.clone(), bound).with_budget(limit);
+        let mut out = MotionSamples { generation: self.cursor.generation, ..MotionSamples::default() };
         for sm in walk.by_ref() {
-            cayley.push(cayley_vector(&sm.positions, &self.solved.complexity.ccv));
-            types.push(sm.ty);
-            jumps.push(sm.jump);
-            positions.push(sm.positions);
+            out.cayley.push(cayley_vector(&sm.positions, &s.complexity.ccv));
+            out.types.push(sm.ty);
+            out.jumps.push(sm.jump);
+            out.positions.push(sm.positions);
         }
-        let truncated = walk.summary().truncated;
-        self.cache = Some(MotionSamples { generation: self.generation, positions, cayley, types, jumps, truncated });
+        out.truncated = walk.summary().truncated;
+        out
     }
 
     /// Bounding box [x0, y0, x1, y1] of every joint over the current component (coarse walk).
     fn component_bounds(&self) -> [f64; 4] {
-        let a = &self.analysis;
+        let (a, s) = (&self.analysis, self.solved());
         let mut b = [f64::INFINITY, f64::INFINITY, f64::NEG_INFINITY, f64::NEG_INFINITY];
         let mut add = |p: &P2<f64>| {
             b[0] = b[0].min(p[0]);
@@ -629,13 +765,125 @@ impl Model {
             b[2] = b[2].max(p[0]);
             b[3] = b[3].max(p[1]);
         };
-        self.positions.iter().for_each(&mut add);
-        let segs = component_segments(&self.solved.space, &self.solved.components.list[self.component]);
+        self.cursor.positions.iter().for_each(&mut add);
+        let segs = component_segments(&s.space, &s.components.list[self.cursor.component]);
         let limit = (tolerance::TUI_MAX_NUMBERS / 2 / a.linkage.n_joints().max(1)).clamp(2, 5000);
-        let bound = tolerance::TUI_BOUNDS_STEP_FRACTION * self.extent;
-        for sm in Stepper::new(&self.solved.construction, &a.linkage, segs, bound).with_budget(limit) {
+        let bound = tolerance::TUI_BOUNDS_STEP_FRACTION * self.pace.extent;
+        for sm in Stepper::new(&s.construction, &a.linkage, segs, bound).with_budget(limit) {
             sm.positions.iter().for_each(&mut add);
         }
         b
+    }
+}
+
+/// The drawing in units of its own extent (the box `b`), centred: the
+/// canvas never sees scene coordinates (a scene at 1e307 or 1e-320 would
+/// overflow or vanish in its arithmetic). A box of no or infinite extent
+/// gives unit span; a non-finite centre gives the origin.
+pub fn unit_frame(b: [f64; 4]) -> impl Fn([f64; 2]) -> [f64; 2] {
+    let (cx, cy) = (b[0] / 2.0 + b[2] / 2.0, b[1] / 2.0 + b[3] / 2.0);
+    let span = (b[2] / 2.0 - b[0] / 2.0).max(b[3] / 2.0 - b[1] / 2.0) * 2.0;
+    let span = if span.is_finite() && span > 0.0 { span } else { 1.0 };
+    let (cx, cy) = if cx.is_finite() && cy.is_finite() { (cx, cy) } else { (0.0, 0.0) };
+    move |p| [(p[0] - cx) / span, (p[1] - cy) / span]
+}
+
+/// Each traced joint's positions over the samples in the unit frame of
+/// `bounds`, the non-finite left out (none when traces are off).
+fn trace_paths(samples: &MotionSamples, traces: &Traces, bounds: [f64; 4]) -> Vec<(usize, Vec<(f64, f64)>)> {
+    if !traces.on {
+        return Vec::new();
+    }
+    let unit = &unit_frame(bounds);
+    let path = |j: usize| {
+        samples
+            .positions
+            .iter()
+            .map(move |p| unit(p[j]))
+            .filter(|p| p[0].is_finite() && p[1].is_finite())
+            .map(|p| (p[0], p[1]))
+    };
+    (0..traces.traced.len()).filter(|&j| traces.traced[j]).map(|j| (j, path(j).collect())).collect()
+}
+
+/// The camera's three axes of a Cayley vector (0 where it has no such entry).
+fn pick(camera: &Camera, v: &[f64]) -> Vector3<f64> {
+    Vector3::from(camera.axes.map(|a| v.get(a).copied().unwrap_or(0.0)))
+}
+
+/// The samples' range [lo, hi] on each of the camera's axes.
+fn axis_range(samples: &MotionSamples, camera: &Camera) -> AxisRange {
+    let mut lo = Vector3::repeat(f64::INFINITY);
+    let mut hi = Vector3::repeat(f64::NEG_INFINITY);
+    for v in &samples.cayley {
+        let u = pick(camera, v);
+        lo = lo.inf(&u);
+        hi = hi.sup(&u);
+    }
+    AxisRange { lo, hi }
+}
+
+/// A Cayley vector on screen: each axis scaled to [-1, 1] over the samples'
+/// range (0 for an axis of no extent), the first axis across, the third up,
+/// the second in depth; rotated by the camera, projected orthographically.
+fn project(range: &AxisRange, camera: &Camera, v: &[f64]) -> (f64, f64) {
+    let AxisRange { lo, hi } = range;
+    let u = pick(camera, v);
+    let n = Vector3::from_fn(|k, _| if hi[k] > lo[k] { 2.0 * (u[k] - lo[k]) / (hi[k] - lo[k]) - 1.0 } else { 0.0 });
+    let p = camera.rotation() * Vector3::new(n[0], n[2], n[1]);
+    (p.x, p.y)
+}
+
+/// The projected curve in runs of one type that do not cross a jump.
+fn curve_runs(samples: &MotionSamples, camera: &Camera, range: &AxisRange) -> Vec<(usize, Vec<(f64, f64)>)> {
+    let mut types: Vec<&RealizationType> = Vec::new();
+    let mut runs: Vec<(usize, Vec<(f64, f64)>)> = Vec::new();
+    for ((v, ty), &jump) in samples.cayley.iter().zip(&samples.types).zip(&samples.jumps) {
+        let k = types.iter().position(|t| *t == ty).unwrap_or_else(|| {
+            types.push(ty);
+            types.len() - 1
+        });
+        let p = project(range, camera, v);
+        // A new run at a type change, and at a jump (no line across it).
+        match runs.last_mut() {
+            Some((kk, pts)) if *kk == k && !jump => pts.push(p),
+            _ => runs.push((k, vec![p])),
+        }
+    }
+    runs
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_camera_turns_about_the_vertical_then_tilts() {
+        let c = Camera { yaw: std::f64::consts::FRAC_PI_2, pitch: 0.0, axes: [0, 1, 2] };
+        // A quarter turn about y takes the depth axis (z) across (x).
+        let p = c.rotation() * Vector3::new(0.0, 0.0, 1.0);
+        assert!((p.x - 1.0).abs() < 1e-15 && p.y.abs() < 1e-15, "{p}");
+        let c = Camera { yaw: 0.0, pitch: std::f64::consts::FRAC_PI_2, axes: [0, 1, 2] };
+        // A quarter tilt about x takes depth to down.
+        let p = c.rotation() * Vector3::new(0.0, 0.0, 1.0);
+        assert!((p.y + 1.0).abs() < 1e-15 && p.x.abs() < 1e-15, "{p}");
+    }
+
+    #[test]
+    fn axes_cycle_through_every_triple_in_order() {
+        let mut c = Camera { yaw: 0.0, pitch: 0.0, axes: [0, 1, 2] };
+        let mut seen = vec![c.axes];
+        for _ in 0..9 {
+            c.next_axes(5);
+            seen.push(c.axes);
+        }
+        // All C(5, 3) = 10 triples, increasing, then back to the first.
+        assert_eq!(seen.len(), 10);
+        assert!(seen.windows(2).all(|w| w[0] < w[1]), "{seen:?}");
+        assert!(seen.iter().all(|t| t[0] < t[1] && t[1] < t[2] && t[2] < 5));
+        c.next_axes(5);
+        assert_eq!(c.axes, [0, 1, 2]);
+        c.next_axes(3);
+        assert_eq!(c.axes, [0, 1, 2], "three entries: one triple");
     }
 }

@@ -38,6 +38,42 @@ pub enum Action {
     Quit,
 }
 
+impl Action {
+    /// Every action, in declaration order (the keymap test checks each has a key).
+    pub const ALL: [Action; 30] = [
+        Action::StepForward,
+        Action::StepBack,
+        Action::LargeForward,
+        Action::LargeBack,
+        Action::NextEndpoint,
+        Action::PrevEndpoint,
+        Action::PlayPause,
+        Action::NextComponent,
+        Action::PrevComponent,
+        Action::GoTo,
+        Action::MarkA,
+        Action::MarkB,
+        Action::ClearMarks,
+        Action::FollowArc1,
+        Action::FollowArc2,
+        Action::FollowComponent,
+        Action::ToggleTraces,
+        Action::NextJoint,
+        Action::ToggleJointTrace,
+        Action::SwitchView,
+        Action::RotateLeft,
+        Action::RotateRight,
+        Action::TiltUp,
+        Action::TiltDown,
+        Action::NextAxes,
+        Action::StepBigger,
+        Action::StepSmaller,
+        Action::Reset,
+        Action::Help,
+        Action::Quit,
+    ];
+}
+
 /// A key as written in the table.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Key {
@@ -47,6 +83,34 @@ pub enum Key {
 }
 
 impl Key {
+    /// How the help and the key bar write the key.
+    pub fn name(self) -> String {
+        match self {
+            Key::Char(' ') => "space".into(),
+            Key::Char(c) => c.to_string(),
+            Key::Ctrl(c) => format!("Ctrl-{c}"),
+            Key::Code(KeyCode::Right) => "→".into(),
+            Key::Code(KeyCode::Left) => "←".into(),
+            Key::Code(KeyCode::Up) => "↑".into(),
+            Key::Code(KeyCode::Down) => "↓".into(),
+            Key::Code(KeyCode::PageDown) => "PgDn".into(),
+            Key::Code(KeyCode::PageUp) => "PgUp".into(),
+            Key::Code(KeyCode::Tab) => "Tab".into(),
+            Key::Code(KeyCode::BackTab) => "S-Tab".into(),
+            Key::Code(KeyCode::Esc) => "Esc".into(),
+            Key::Code(code) => code.to_string(),
+        }
+    }
+
+    /// The key press this key stands for.
+    pub fn event(self) -> KeyEvent {
+        match self {
+            Key::Char(c) => KeyEvent::new(KeyCode::Char(c), KeyModifiers::NONE),
+            Key::Ctrl(c) => KeyEvent::new(KeyCode::Char(c), KeyModifiers::CONTROL),
+            Key::Code(code) => KeyEvent::new(code, KeyModifiers::NONE),
+        }
+    }
+
     fn matches(self, ev: &KeyEvent) -> bool {
         let ctrl = ev.modifiers.contains(KeyModifiers::CONTROL);
         match self {
@@ -57,61 +121,66 @@ impl Key {
     }
 }
 
-/// One row of the table: the keys, how the key bar and help show them, the action.
+/// One row of the table: the keys, the action, how the help and key bar describe it.
 #[derive(Clone, Copy, Debug)]
 pub struct Binding {
     pub keys: &'static [Key],
-    pub label: &'static str,
     pub action: Action,
     pub help: &'static str,
     /// The word shown in the key bar at the bottom; empty: only in the help overlay.
     pub bar: &'static str,
 }
 
-const fn bind(
-    keys: &'static [Key],
-    label: &'static str,
-    action: Action,
-    help: &'static str,
-    bar: &'static str,
-) -> Binding {
-    Binding { keys, label, action, help, bar }
+impl Binding {
+    /// Every key of the row, as the help overlay lists them (`n/Tab`).
+    pub fn label(&self) -> String {
+        self.keys.iter().map(|k| k.name()).collect::<Vec<_>>().join("/")
+    }
+
+    /// The first key, as the key bar shows it.
+    pub fn short_label(&self) -> String {
+        self.keys.first().map(|k| k.name()).unwrap_or_default()
+    }
+}
+
+const fn bind(keys: &'static [Key], action: Action, help: &'static str, bar: &'static str) -> Binding {
+    Binding { keys, action, help, bar }
 }
 
 use Key::{Char, Code, Ctrl};
 
 /// The whole table, in the order the help overlay lists it.
 pub const BINDINGS: &[Binding] = &[
-    bind(&[Code(KeyCode::Right), Char('l')], "→/l", Action::StepForward, "step forward (geometric)", "step"),
-    bind(&[Code(KeyCode::Left), Char('h')], "←/h", Action::StepBack, "step back", ""),
-    bind(&[Char('L'), Code(KeyCode::PageDown)], "L/PgDn", Action::LargeForward, "large step forward", ""),
-    bind(&[Char('H'), Code(KeyCode::PageUp)], "H/PgUp", Action::LargeBack, "large step back", ""),
-    bind(&[Char(']')], "]", Action::NextEndpoint, "next interval endpoint", "endpoint"),
-    bind(&[Char('[')], "[", Action::PrevEndpoint, "previous interval endpoint", ""),
-    bind(&[Char(' ')], "space", Action::PlayPause, "play / pause", "play"),
-    bind(&[Char('n'), Code(KeyCode::Tab)], "n", Action::NextComponent, "next component", "component"),
-    bind(&[Char('p'), Code(KeyCode::BackTab)], "p", Action::PrevComponent, "previous component", ""),
-    bind(&[Char('g')], "g", Action::GoTo, "go to λ or TYPE@λ", "go to"),
-    bind(&[Char('a')], "a", Action::MarkA, "mark A here", "mark A"),
-    bind(&[Char('b')], "b", Action::MarkB, "mark B: paths or closest", "mark B"),
-    bind(&[Char('c')], "c", Action::ClearMarks, "clear marks A, B", ""),
-    bind(&[Char('1')], "1", Action::FollowArc1, "follow path 1, A to B", ""),
-    bind(&[Char('2')], "2", Action::FollowArc2, "follow path 2, A to B", ""),
-    bind(&[Code(KeyCode::Esc)], "Esc", Action::FollowComponent, "whole component; close help", ""),
-    bind(&[Char('t')], "t", Action::ToggleTraces, "traces on / off", "traces"),
-    bind(&[Char('j')], "j", Action::NextJoint, "select next joint", ""),
-    bind(&[Char('J')], "J", Action::ToggleJointTrace, "trace / untrace that joint", ""),
-    bind(&[Char('v')], "v", Action::SwitchView, "linkage / Cayley curve", "view"),
-    bind(&[Char('r')], "r", Action::RotateLeft, "rotate curve left", ""),
-    bind(&[Char('R')], "R", Action::RotateRight, "rotate curve right", ""),
-    bind(&[Char('e')], "e", Action::TiltUp, "tilt curve up", ""),
-    bind(&[Char('E')], "E", Action::TiltDown, "tilt curve down", ""),
-    bind(&[Char('x')], "x", Action::NextAxes, "next curve axes (CCV)", ""),
-    bind(&[Char('+'), Char('=')], "+", Action::StepBigger, "double the step", ""),
-    bind(&[Char('-')], "-", Action::StepSmaller, "halve the step", ""),
-    bind(&[Char('0'), Char('d')], "0/d", Action::Reset, "reset to drawn", ""),
-    bind(&[Char('?')], "?", Action::Help, "this help", "help"),
-    bind(&[Char('q'), Ctrl('c')], "q", Action::Quit, "quit (also Ctrl-C)", "quit"),
+    bind(&[Code(KeyCode::Right), Char('l')], Action::StepForward, "step forward (geometric)", "step"),
+    bind(&[Code(KeyCode::Left), Char('h')], Action::StepBack, "step back", ""),
+    bind(&[Char('L'), Code(KeyCode::PageDown)], Action::LargeForward, "large step forward", ""),
+    bind(&[Char('H'), Code(KeyCode::PageUp)], Action::LargeBack, "large step back", ""),
+    bind(&[Char(']')], Action::NextEndpoint, "next interval endpoint", "endpoint"),
+    bind(&[Char('[')], Action::PrevEndpoint, "previous interval endpoint", ""),
+    bind(&[Char(' ')], Action::PlayPause, "play / pause", "play"),
+    bind(&[Char('n'), Code(KeyCode::Tab)], Action::NextComponent, "next component", "component"),
+    bind(&[Char('p'), Code(KeyCode::BackTab)], Action::PrevComponent, "previous component", ""),
+    bind(&[Char('g')], Action::GoTo, "go to λ or TYPE@λ", "go to"),
+    bind(&[Char('a')], Action::MarkA, "mark A here", "mark A"),
+    bind(&[Char('b')], Action::MarkB, "mark B: paths or closest", "mark B"),
+    bind(&[Char('c')], Action::ClearMarks, "clear marks A, B", ""),
+    bind(&[Char('1')], Action::FollowArc1, "follow path 1, A to B", ""),
+    bind(&[Char('2')], Action::FollowArc2, "follow path 2, A to B", ""),
+    bind(&[Code(KeyCode::Esc)], Action::FollowComponent, "whole component; close help", ""),
+    bind(&[Char('t')], Action::ToggleTraces, "traces on / off", "traces"),
+    bind(&[Char('j')], Action::NextJoint, "select next joint", ""),
+    bind(&[Char('J')], Action::ToggleJointTrace, "trace / untrace that joint", ""),
+    bind(&[Char('v')], Action::SwitchView, "linkage / Cayley curve", "view"),
+    bind(&[Char('r')], Action::RotateLeft, "rotate curve left", ""),
+    bind(&[Char('R')], Action::RotateRight, "rotate curve right", ""),
+    bind(&[Char('e')], Action::TiltUp, "tilt curve up", ""),
+    bind(&[Char('E')], Action::TiltDown, "tilt curve down", ""),
+    bind(&[Char('x')], Action::NextAxes, "next curve axes (CCV)", ""),
+    bind(&[Char('+'), Char('=')], Action::StepBigger, "double the step", ""),
+    bind(&[Char('-')], Action::StepSmaller, "halve the step", ""),
+    bind(&[Char('0'), Char('d')], Action::Reset, "reset to drawn", ""),
+    bind(&[Char('?')], Action::Help, "this help", "help"),
+    bind(&[Char('q'), Ctrl('c')], Action::Quit, "quit", "quit"),
 ];
 
 /// The action for a key press, if any.
@@ -139,16 +208,80 @@ mod tests {
         assert_eq!(action_for(&key(KeyCode::Char('Z'))), None);
     }
 
+    /// `Action::ALL` is every variant, in order: this match has no wildcard,
+    /// so a new action does not compile until it is listed here and in `ALL`.
+    fn ordinal(a: Action) -> usize {
+        match a {
+            Action::StepForward => 0,
+            Action::StepBack => 1,
+            Action::LargeForward => 2,
+            Action::LargeBack => 3,
+            Action::NextEndpoint => 4,
+            Action::PrevEndpoint => 5,
+            Action::PlayPause => 6,
+            Action::NextComponent => 7,
+            Action::PrevComponent => 8,
+            Action::GoTo => 9,
+            Action::MarkA => 10,
+            Action::MarkB => 11,
+            Action::ClearMarks => 12,
+            Action::FollowArc1 => 13,
+            Action::FollowArc2 => 14,
+            Action::FollowComponent => 15,
+            Action::ToggleTraces => 16,
+            Action::NextJoint => 17,
+            Action::ToggleJointTrace => 18,
+            Action::SwitchView => 19,
+            Action::RotateLeft => 20,
+            Action::RotateRight => 21,
+            Action::TiltUp => 22,
+            Action::TiltDown => 23,
+            Action::NextAxes => 24,
+            Action::StepBigger => 25,
+            Action::StepSmaller => 26,
+            Action::Reset => 27,
+            Action::Help => 28,
+            Action::Quit => 29,
+        }
+    }
+
     #[test]
-    fn no_key_is_bound_twice_and_every_action_has_a_key() {
-        let mut seen = Vec::new();
+    fn every_action_has_a_key_and_one_row() {
+        for (i, &a) in Action::ALL.iter().enumerate() {
+            assert_eq!(ordinal(a), i, "Action::ALL out of order at {a:?}");
+            let rows: Vec<&Binding> = BINDINGS.iter().filter(|b| b.action == a).collect();
+            assert_eq!(rows.len(), 1, "{a:?} has {} rows in the key table", rows.len());
+            assert!(!rows[0].keys.is_empty(), "{a:?} has no key");
+            // And its keys reach it.
+            for k in rows[0].keys {
+                assert_eq!(action_for(&k.event()), Some(a), "{k:?}");
+            }
+        }
+        assert_eq!(BINDINGS.len(), Action::ALL.len());
+    }
+
+    #[test]
+    fn no_key_is_bound_twice() {
+        // Compared as key presses, so `Char('c')` and `Code(KeyCode::Char('c'))` would collide too.
         for b in BINDINGS {
             for k in b.keys {
-                assert!(!seen.contains(k), "{k:?} bound twice");
-                seen.push(*k);
+                let ev = k.event();
+                let matching: Vec<Action> = BINDINGS
+                    .iter()
+                    .flat_map(|b2| b2.keys.iter().filter(|k2| k2.matches(&ev)).map(|_| b2.action))
+                    .collect();
+                assert_eq!(matching, vec![b.action], "{} is bound to {matching:?}", k.name());
             }
-            assert!(!b.help.is_empty() && !b.label.is_empty());
         }
+    }
+
+    #[test]
+    fn every_row_has_a_label_and_help_and_the_bar_has_help_and_quit() {
+        for b in BINDINGS {
+            assert!(!b.help.is_empty() && !b.label().is_empty(), "{:?}", b.action);
+        }
+        assert_eq!(BINDINGS.iter().find(|b| b.action == Action::Quit).unwrap().label(), "q/Ctrl-c");
+        assert_eq!(BINDINGS.iter().find(|b| b.action == Action::NextComponent).unwrap().label(), "n/Tab");
         assert!(BINDINGS.iter().any(|b| b.action == Action::Quit && !b.bar.is_empty()));
         assert!(BINDINGS.iter().any(|b| b.action == Action::Help && !b.bar.is_empty()));
     }

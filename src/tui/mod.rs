@@ -1,5 +1,7 @@
-//! The terminal UI: `ratatui` over `crossterm`. Event → action → update →
-//! draw; the solver runs on a background thread so input stays responsive.
+//! The terminal UI: `ratatui` over `crossterm`. Event → action → update
+//! (which also makes everything the screen shows) → draw from `&App` (which
+//! only reads); the solver runs on a background thread so input stays
+//! responsive, and its analysis is moved into the app, never copied.
 //! The terminal is restored on quit, on Ctrl-C and on a panic (the hook
 //! installed by `ratatui::init`).
 

@@ -8,7 +8,7 @@ use ratatui::text::{Line, Span};
 use ratatui::widgets::canvas::{Canvas, Context, Line as Segment2, Points};
 use ratatui::widgets::{Block, Clear, Paragraph, Wrap};
 
-use super::app::{App, Model, Motion, Screen, View};
+use super::app::{App, Model, Motion, Screen, View, unit_frame};
 use super::keymap::BINDINGS;
 use super::theme::Theme;
 use crate::analysis::Analysis;
@@ -138,11 +138,11 @@ fn draw_bars(ctx: &mut Context, l: &crate::linkage::Linkage, pos: &[[f64; 2]], c
 fn draw_model(frame: &mut Frame, m: &Model, area: Rect, theme: Theme) {
     let side = if area.width >= 120 { 38 } else { 30 };
     let max_rows = (area.height / 3).max(4);
-    let comp_rows = m.solved.components.list[m.component].intervals.len() as u16;
+    let comp_rows = m.solved().components.list[m.cursor.component].intervals.len() as u16;
     let chart_h = (comp_rows + 3).min(max_rows);
     let [top, chart] = Layout::vertical([Constraint::Min(6), Constraint::Length(chart_h)]).areas(area);
     let [main, right] = Layout::horizontal([Constraint::Min(20), Constraint::Length(side)]).areas(top);
-    let ccv_rows = m.solved.complexity.ccv.len() as u16;
+    let ccv_rows = m.solved().complexity.ccv.len() as u16;
     let [readout, comps] =
         Layout::vertical([Constraint::Length((ccv_rows + 6).min(top.height / 2 + 2)), Constraint::Min(3)]).areas(right);
     match m.view {
@@ -189,53 +189,31 @@ fn dashed(ctx: &mut Context, p: [f64; 2], q: [f64; 2], color: ratatui::style::Co
     }
 }
 
+/// The motion followed, numbered from 1 like the CLI's `--arc`.
 fn motion_label(m: &Model) -> String {
-    match m.motion {
-        Motion::Component(k) => format!("component {k} of {}", m.n_components()),
+    match m.cursor.motion {
+        Motion::Component(k) => format!("component {} of {}", k + 1, m.n_components()),
         Motion::Path { arc } => format!("path {} A→B", arc + 1),
     }
 }
 
 /// " · traces cut at the sample budget" when the current motion's samples were cut.
 fn cut_note(m: &Model) -> &'static str {
-    if m.cache.as_ref().is_some_and(|c| c.truncated) { "· traces cut at the sample budget " } else { "" }
-}
-
-/// The drawing in units of its own extent, centred: the canvas never sees
-/// scene coordinates (a scene at 1e307 or 1e-320 would overflow or vanish in
-/// its arithmetic).
-fn unit_frame(b: [f64; 4]) -> impl Fn([f64; 2]) -> [f64; 2] {
-    let (cx, cy) = (b[0] / 2.0 + b[2] / 2.0, b[1] / 2.0 + b[3] / 2.0);
-    let span = (b[2] / 2.0 - b[0] / 2.0).max(b[3] / 2.0 - b[1] / 2.0) * 2.0;
-    let span = if span.is_finite() && span > 0.0 { span } else { 1.0 };
-    let (cx, cy) = if cx.is_finite() && cy.is_finite() { (cx, cy) } else { (0.0, 0.0) };
-    move |p| [(p[0] - cx) / span, (p[1] - cy) / span]
+    if m.picture.samples.truncated { "· traces cut at the sample budget " } else { "" }
 }
 
 fn draw_linkage(frame: &mut Frame, m: &Model, area: Rect, theme: Theme) {
-    let unit = unit_frame(m.bounds);
-    let [x0, y0] = unit([m.bounds[0], m.bounds[1]]);
-    let [x1, y1] = unit([m.bounds[2], m.bounds[3]]);
+    let bounds = m.picture.bounds;
+    let unit = unit_frame(bounds);
+    let [x0, y0] = unit([bounds[0], bounds[1]]);
+    let [x1, y1] = unit([bounds[2], bounds[3]]);
     let (xb, yb) = equal_bounds([x0, y0, x1, y1], area);
-    let traces: Vec<(usize, Vec<(f64, f64)>)> = match (&m.cache, m.traces_on) {
-        (Some(s), true) => {
-            let traced: Vec<usize> = (0..m.traced.len()).filter(|&j| m.traced[j]).collect();
-            traced
-                .iter()
-                .map(|&j| {
-                    let points =
-                        s.positions.iter().map(|p| unit(p[j])).filter(|p| p[0].is_finite() && p[1].is_finite());
-                    (j, points.map(|p| (p[0], p[1])).collect())
-                })
-                .collect()
-        }
-        _ => Vec::new(),
-    };
-    let l = &m.analysis.linkage;
-    let pos: Vec<[f64; 2]> = m.positions.iter().map(|&p| unit(p)).collect();
-    let ccv = &m.solved.complexity.ccv;
+    let traces = &m.picture.traces;
+    let l = &m.analysis().linkage;
+    let pos: Vec<[f64; 2]> = m.cursor.positions.iter().map(|&p| unit(p)).collect();
+    let ccv = &m.solved().complexity.ccv;
     let title = Line::from(vec![
-        Span::styled(format!(" {} ", m.analysis.scene.name), theme.title()),
+        Span::styled(format!(" {} ", m.analysis().scene.name), theme.title()),
         Span::styled(format!("· {} {}", motion_label(m), cut_note(m)), theme.dim()),
     ]);
     let canvas = braille(title, xb, yb, |ctx| {
@@ -258,7 +236,7 @@ fn draw_linkage(frame: &mut Frame, m: &Model, area: Rect, theme: Theme) {
         let joints: Vec<(f64, f64)> = pos.iter().map(|p| (p[0], p[1])).collect();
         ctx.draw(&Points::new(&joints, theme.joint()));
         for (j, p) in pos.iter().enumerate() {
-            let style = if j == m.selected_joint { theme.highlight() } else { Style::default().fg(theme.joint()) };
+            let style = if j == m.traces.selected { theme.highlight() } else { Style::default().fg(theme.joint()) };
             ctx.print(p[0] + tick * 0.5, p[1], Line::styled(l.names[j].clone(), style));
         }
     });
@@ -266,74 +244,31 @@ fn draw_linkage(frame: &mut Frame, m: &Model, area: Rect, theme: Theme) {
 }
 
 fn draw_curve(frame: &mut Frame, m: &Model, area: Rect, theme: Theme) {
-    let axes = m.axes;
-    let (yaw, pitch) = (m.yaw, m.pitch);
-    let current = m.cayley_vector();
-    let ccv_names: Vec<String> = m.solved.complexity.ccv.iter().map(|&p| m.analysis.linkage.pair_name(p)).collect();
-    let mirror = crate::distance::mirror_images_exist(&m.solved.construction, &m.solved.dec);
-    let empty = super::app::MotionSamples {
-        generation: 0,
-        positions: Vec::new(),
-        cayley: Vec::new(),
-        types: Vec::new(),
-        jumps: Vec::new(),
-        truncated: false,
-    };
-    let s = m.cache.as_ref().unwrap_or(&empty);
-    let pick = |v: &[f64]| axes.map(|a| v.get(a).copied().unwrap_or(0.0));
-    let mut lo = [f64::INFINITY; 3];
-    let mut hi = [f64::NEG_INFINITY; 3];
-    for v in s.cayley.iter().chain(std::iter::once(&current)) {
-        for (k, x) in pick(v).into_iter().enumerate() {
-            lo[k] = lo[k].min(x);
-            hi[k] = hi[k].max(x);
-        }
-    }
-    // Normalise each axis to [-1, 1], rotate (yaw about the vertical, then pitch), project.
-    let project = |v: &[f64]| -> (f64, f64) {
-        let u = pick(v);
-        let n: Vec<f64> =
-            (0..3).map(|k| if hi[k] > lo[k] { 2.0 * (u[k] - lo[k]) / (hi[k] - lo[k]) - 1.0 } else { 0.0 }).collect();
-        let (x, y, z) = (n[0], n[2], n[1]);
-        let (x1, z1) = (x * yaw.cos() + z * yaw.sin(), -x * yaw.sin() + z * yaw.cos());
-        let y1 = y * pitch.cos() - z1 * pitch.sin();
-        (x1, y1)
-    };
-    let mut types: Vec<&crate::realize::RealizationType> = Vec::new();
-    let mut runs: Vec<(usize, Vec<(f64, f64)>)> = Vec::new();
-    for ((v, ty), &jump) in s.cayley.iter().zip(&s.types).zip(&s.jumps) {
-        let k = types.iter().position(|t| *t == ty).unwrap_or_else(|| {
-            types.push(ty);
-            types.len() - 1
-        });
-        // A new run at a type change, and at a jump (no line across it).
-        match runs.last_mut() {
-            Some((kk, pts)) if *kk == k && !jump => pts.push(project(v)),
-            _ => runs.push((k, vec![project(v)])),
-        }
-    }
-    let here = project(&current);
+    let curve = &m.picture.curve;
+    let l = &m.analysis().linkage;
+    let ccv = &m.solved().complexity.ccv;
     let (xb, yb) = equal_bounds([-1.8, -1.8, 1.8, 1.8], area);
-    let names: Vec<&str> = axes.iter().map(|&a| ccv_names.get(a).map_or("-", String::as_str)).collect();
+    let names: Vec<String> =
+        m.camera.axes.iter().map(|&a| ccv.get(a).map_or("-".into(), |&p| l.pair_name(p))).collect();
     let title = Line::from(vec![
         Span::styled(" Cayley curve ", theme.title()),
         Span::styled(format!("{} · {} {}", names.join(" × "), motion_label(m), cut_note(m)), theme.dim()),
-        Span::styled(if mirror { "(stands for a mirror pair) " } else { "" }, theme.dim()),
+        Span::styled(if m.picture.mirror { "(stands for a mirror pair) " } else { "" }, theme.dim()),
     ]);
     let canvas = braille(title, xb, yb, |ctx| {
-        for (k, pts) in &runs {
+        for (k, pts) in &curve.runs {
             for w in pts.windows(2) {
                 ctx.draw(&Segment2::new(w[0].0, w[0].1, w[1].0, w[1].1, theme.of_type(*k)));
             }
         }
         ctx.layer();
-        ctx.print(here.0, here.1, Line::styled("●", theme.highlight()));
+        ctx.print(curve.here.0, curve.here.1, Line::styled("●", theme.highlight()));
     });
     frame.render_widget(canvas, area);
 }
 
 fn draw_readout(frame: &mut Frame, m: &Model, area: Rect, theme: Theme) {
-    let l = &m.analysis.linkage;
+    let l = &m.analysis().linkage;
     let here = m.current();
     let flat = m.flat_here();
     let mut ty_spans = vec![Span::raw("type ")];
@@ -346,7 +281,7 @@ fn draw_readout(frame: &mut Frame, m: &Model, area: Rect, theme: Theme) {
     } else {
         flat.iter()
             .map(|&k| {
-                let s = &m.solved.dec.steps[k];
+                let s = &m.solved().dec.steps[k];
                 format!("step {} ({})", k + 1, l.names[s.vertex])
             })
             .collect::<Vec<_>>()
@@ -356,10 +291,10 @@ fn draw_readout(frame: &mut Frame, m: &Model, area: Rect, theme: Theme) {
         Line::from(vec![Span::raw("λ    "), Span::styled(fmt_sig(here.lambda, 8), theme.highlight())]),
         Line::from(ty_spans),
         Line::raw(format!("flat {flat_text}")),
-        Line::raw(format!("step {}{}", fmt_num(m.step), if m.playing { "  ▶ playing" } else { "" })),
+        Line::raw(format!("step {}{}", fmt_num(m.pace.step), if m.pace.playing { "  ▶ playing" } else { "" })),
     ];
-    let v = m.cayley_vector();
-    for (k, &[p, q]) in m.solved.complexity.ccv.iter().enumerate() {
+    let v = &m.cursor.cayley;
+    for (k, &[p, q]) in m.solved().complexity.ccv.iter().enumerate() {
         let name = format!("{}–{}", l.names[p], l.names[q]);
         lines.push(Line::from(vec![Span::styled(format!("{name:<10}"), theme.dim()), Span::raw(fmt_sig(v[k], 6))]));
     }
@@ -368,10 +303,10 @@ fn draw_readout(frame: &mut Frame, m: &Model, area: Rect, theme: Theme) {
 }
 
 fn draw_components(frame: &mut Frame, m: &Model, area: Rect, theme: Theme) {
-    let s = &m.solved;
+    let s = m.solved();
     let rows = area.height.saturating_sub(2) as usize;
     let n = s.components.list.len();
-    let first = m.component.saturating_sub(rows.saturating_sub(1) / 2).min(n.saturating_sub(rows));
+    let first = m.cursor.component.saturating_sub(rows.saturating_sub(1) / 2).min(n.saturating_sub(rows));
     let lines: Vec<Line> = s
         .components
         .list
@@ -380,12 +315,12 @@ fn draw_components(frame: &mut Frame, m: &Model, area: Rect, theme: Theme) {
         .skip(first)
         .take(rows)
         .map(|(k, c)| {
-            let here = k == m.component;
+            let here = k == m.cursor.component;
             let drawn = s.drawn_component == Some(k);
             let text = format!(
                 "{}{:>2} {:>2} iv [{}, {}]{}",
                 if here { "▸" } else { " " },
-                k,
+                k + 1,
                 c.intervals.len(),
                 fmt_num(c.lambda_range[0]),
                 fmt_num(c.lambda_range[1]),
@@ -403,7 +338,7 @@ fn draw_components(frame: &mut Frame, m: &Model, area: Rect, theme: Theme) {
 }
 
 fn draw_intervals(frame: &mut Frame, m: &Model, area: Rect, theme: Theme) {
-    let s = &m.solved;
+    let s = m.solved();
     let union = &s.union;
     let (Some(first), Some(last)) = (union.first(), union.last()) else { return };
     let (lo, hi) = (first[0], last[1]);
@@ -432,12 +367,12 @@ fn draw_intervals(frame: &mut Frame, m: &Model, area: Rect, theme: Theme) {
         row.into_iter().collect()
     };
     let here = m.current();
-    let cur_interval = m.segments[m.seg].interval;
+    let cur_interval = m.cursor.segments[m.cursor.seg].interval;
     let mut lines = vec![Line::from(vec![
         Span::styled(format!("{:<label_w$} ", "union"), theme.dim()),
         Span::raw(bar(&union.iter().map(|u| (u[0], u[1])).collect::<Vec<_>>(), Some(here.lambda))),
     ])];
-    let comp = &s.components.list[m.component];
+    let comp = &s.components.list[m.cursor.component];
     let rows = area.height.saturating_sub(3) as usize;
     let pos = comp.intervals.iter().position(|&i| i == cur_interval).unwrap_or(0);
     let start = pos.saturating_sub(rows.saturating_sub(1) / 2).min(comp.intervals.len().saturating_sub(rows));
@@ -479,17 +414,19 @@ fn draw_status(frame: &mut Frame, app: &App, area: Rect, theme: Theme) {
     } else if let Some(m) = app.model() {
         let marks: Vec<String> = m
             .marks
+            .slots
             .iter()
             .zip(["A", "B"])
             .filter_map(|(mk, n)| mk.as_ref().map(|mk| format!("{n} {}@{}", mk.at.ty, fmt_num(mk.at.lambda))))
             .collect();
-        let traced: Vec<&str> =
-            (0..m.traced.len()).filter(|&j| m.traced[j]).map(|j| m.analysis.linkage.names[j].as_str()).collect();
+        let names = &m.analysis().linkage.names;
+        let t = &m.traces;
+        let traced: Vec<&str> = (0..t.traced.len()).filter(|&j| t.traced[j]).map(|j| names[j].as_str()).collect();
         Line::styled(
             format!(
                 "joint {} · traces {} [{}] {}",
-                m.analysis.linkage.names[m.selected_joint],
-                if m.traces_on { "on" } else { "off" },
+                names[t.selected],
+                if t.on { "on" } else { "off" },
                 traced.join(","),
                 marks.join(" · ")
             ),
@@ -512,13 +449,13 @@ fn draw_keys(frame: &mut Frame, app: &App, area: Rect, theme: Theme) {
     let mut bar: Vec<&super::keymap::Binding> = BINDINGS.iter().filter(|b| !b.bar.is_empty()).filter(useful).collect();
     bar.sort_by_key(first);
     for b in bar {
-        let short = b.bar;
-        let w = b.label.chars().count() + short.chars().count() + 3;
+        let (key, short) = (b.short_label(), b.bar);
+        let w = key.chars().count() + short.chars().count() + 3;
         if used + w > area.width as usize {
             break;
         }
         used += w;
-        spans.push(Span::styled(format!(" {}", b.label), theme.key()));
+        spans.push(Span::styled(format!(" {key}"), theme.key()));
         spans.push(Span::raw(format!(" {short} ")));
     }
     frame.render_widget(Paragraph::new(Line::from(spans)), area);
@@ -533,10 +470,12 @@ fn draw_help(frame: &mut Frame, area: Rect, theme: Theme) {
     let h = (per_column as u16 + 3).min(area.height.saturating_sub(2));
     let rect = Rect { x: area.x + (area.width - w) / 2, y: area.y + (area.height - h) / 2, width: w, height: h };
     let col_w = (w.saturating_sub(2) as usize) / columns;
+    // Every key of a row, as the key table has them; the column fits the longest.
+    let key_w = BINDINGS.iter().map(|b| b.label().chars().count()).max().unwrap_or(0) + 1;
     let cell = |b: &super::keymap::Binding| -> Vec<Span<'static>> {
-        let help: String = b.help.chars().take(col_w.saturating_sub(10)).collect();
-        let pad = col_w.saturating_sub(9 + help.chars().count());
-        vec![Span::styled(format!(" {:<8}", b.label), theme.key()), Span::raw(help), Span::raw(" ".repeat(pad))]
+        let help: String = b.help.chars().take(col_w.saturating_sub(key_w + 2)).collect();
+        let pad = col_w.saturating_sub(key_w + 1 + help.chars().count());
+        vec![Span::styled(format!(" {:<key_w$}", b.label()), theme.key()), Span::raw(help), Span::raw(" ".repeat(pad))]
     };
     let mut lines: Vec<Line> = (0..per_column)
         .map(|r| {

@@ -31,7 +31,7 @@ fn press(app: &mut App, keys: &str) {
 }
 
 fn lambda(app: &App) -> f64 {
-    app.model().unwrap().lambda
+    app.model().unwrap().cursor.lambda
 }
 
 fn ty(app: &App) -> String {
@@ -42,9 +42,9 @@ fn ty(app: &App) -> String {
 fn starts_on_the_drawn_realization() {
     let a = app("jansen");
     let m = a.model().unwrap();
-    assert_eq!(Some(m.component), m.solved.drawn_component);
-    assert_eq!(m.lambda, m.solved.drawn.lambda);
-    assert_eq!(ty(&a), m.solved.drawn.ty.to_string());
+    assert_eq!(Some(m.cursor.component), m.solved().drawn_component);
+    assert_eq!(m.cursor.lambda, m.solved().drawn.lambda);
+    assert_eq!(ty(&a), m.solved().drawn.ty.to_string());
     assert!(!a.help && !a.quit);
 }
 
@@ -75,11 +75,11 @@ fn endpoint_jumps_turn_the_jansen_crank_flipping_one_bit_at_each_end() {
 #[test]
 fn small_steps_move_no_joint_more_than_the_step() {
     let mut a = app("limacon");
-    let step = a.model().unwrap().step;
+    let step = a.model().unwrap().pace.step;
     for _ in 0..200 {
-        let before = a.model().unwrap().positions.clone();
+        let before = a.model().unwrap().cursor.positions.clone();
         press(&mut a, "→");
-        let after = &a.model().unwrap().positions;
+        let after = &a.model().unwrap().cursor.positions;
         let moved = before.iter().zip(after).map(|(p, q)| (p[0] - q[0]).hypot(p[1] - q[1])).fold(0.0, f64::max);
         assert!(moved <= step * (1.0 + 1e-9) + 1e-9, "{moved} > {step}");
     }
@@ -91,11 +91,11 @@ fn small_steps_move_no_joint_more_than_the_step() {
 #[test]
 fn components_go_to_marks_paths_views_help_and_quit() {
     let mut a = app("jansen");
-    let k0 = a.model().unwrap().component;
+    let k0 = a.model().unwrap().cursor.component;
     press(&mut a, "n");
-    assert_eq!(a.model().unwrap().component, (k0 + 1) % 6);
+    assert_eq!(a.model().unwrap().cursor.component, (k0 + 1) % 6);
     press(&mut a, "pp");
-    assert_eq!(a.model().unwrap().component, (k0 + 5) % 6);
+    assert_eq!(a.model().unwrap().cursor.component, (k0 + 5) % 6);
     // Go to a realization, then a plain λ in the current motion.
     press(&mut a, "g-+--@30⏎");
     assert_eq!((ty(&a).as_str(), lambda(&a)), ("-+--", 30.0));
@@ -109,28 +109,27 @@ fn components_go_to_marks_paths_views_help_and_quit() {
     // Marks in one component: two paths; follow one, then go back.
     press(&mut a, "0a]]b");
     let m = a.model().unwrap();
-    let p = m.path.as_ref().expect("path computed");
+    let p = m.marks.path.as_ref().expect("path computed");
     assert!(p.same_component);
     assert!(a.message.as_deref().unwrap().contains("two paths"));
     press(&mut a, "1");
-    assert_eq!(a.model().unwrap().motion, Motion::Path { arc: 0 });
+    assert_eq!(a.model().unwrap().cursor.motion, Motion::Path { arc: 0 });
     for _ in 0..400 {
         press(&mut a, "L");
     }
     assert!(a.message.as_deref().unwrap_or("").contains("end of the path"));
     press(&mut a, "⎋");
-    assert!(matches!(a.model().unwrap().motion, Motion::Component(_)));
+    assert!(matches!(a.model().unwrap().cursor.motion, Motion::Component(_)));
     // Marks in different components: the closest pair.
     press(&mut a, "ca0nb");
     let m = a.model().unwrap();
-    assert!(!m.path.as_ref().unwrap().same_component);
+    assert!(!m.marks.path.as_ref().unwrap().same_component);
     assert!(a.message.as_deref().unwrap().contains("closest pair"));
     // Views, traces, help, quit.
     press(&mut a, "v");
     assert_eq!(a.model().unwrap().view, View::CayleyCurve);
-    press(&mut a, "rReEx");
     press(&mut a, "t");
-    assert!(!a.model().unwrap().traces_on);
+    assert!(!a.model().unwrap().traces.on);
     press(&mut a, "?");
     assert!(a.help);
     press(&mut a, "⎋");
@@ -216,7 +215,7 @@ fn the_readout_shows_significant_digits_at_tiny_scales() {
         b.length = b.length.map(|l| l * 1e-20);
     }
     let a = App::ready(analyse(scene, None).unwrap());
-    let lambda = a.model().expect("analysed").lambda;
+    let lambda = a.model().expect("analysed").cursor.lambda;
     let screen = format!("{}", render(&a, 100, 30, Theme { color: false }).backend());
     let shown = caymos::report::fmt_sig(lambda, 8);
     assert!(shown.contains("e-20") && screen.contains(&shown), "{shown}: {screen}");
@@ -227,14 +226,171 @@ fn the_readout_shows_significant_digits_at_tiny_scales() {
 fn next_component_walks_more_components_in_a_lazy_analysis() {
     let mut a = App::ready(analyse(caymos::generate::chain(17), None).unwrap());
     let m = a.model().unwrap();
-    assert!(m.solved.lazy);
+    assert!(m.solved().lazy);
     assert_eq!(m.n_components(), 1);
     press(&mut a, "n");
     let m = a.model().unwrap();
     assert_eq!(m.n_components(), 2, "{:?}", a.message);
-    assert_eq!(m.component, 1);
+    assert_eq!(m.cursor.component, 1);
     let screen = format!("{}", render(&a, 100, 30, Theme { color: false }).backend());
     assert!(screen.contains("walked lazily"), "{screen}");
+}
+
+/// `r`/`R` turn the Cayley curve's camera, `e`/`E` tilt it (up to a limit),
+/// `x` takes the next axes; the projected curve is remade in the update.
+#[test]
+fn camera_keys_turn_tilt_and_change_axes_and_the_curve_follows() {
+    use caymos::tui::app::{CAMERA_MAX_PITCH, CAMERA_TURN};
+    let mut a = app("jansen");
+    press(&mut a, "v");
+    let m = a.model().unwrap();
+    let (cam, curve) = (m.camera, m.picture.curve.clone());
+    assert!(curve.runs.iter().map(|(_, p)| p.len()).sum::<usize>() > 100, "the curve is sampled");
+    press(&mut a, "r");
+    let m = a.model().unwrap();
+    assert!((m.camera.yaw - (cam.yaw - CAMERA_TURN)).abs() < 1e-15);
+    assert_eq!(m.camera.pitch, cam.pitch);
+    assert_ne!(m.picture.curve.runs, curve.runs, "the curve turned with the camera");
+    press(&mut a, "R");
+    let m = a.model().unwrap();
+    assert!((m.camera.yaw - cam.yaw).abs() < 1e-15);
+    assert_eq!(m.picture.curve.runs.len(), curve.runs.len());
+    press(&mut a, "e");
+    assert!((a.model().unwrap().camera.pitch - (cam.pitch + CAMERA_TURN)).abs() < 1e-15);
+    press(&mut a, &"e".repeat(30));
+    assert_eq!(a.model().unwrap().camera.pitch, CAMERA_MAX_PITCH, "the tilt stops at the limit");
+    press(&mut a, &"E".repeat(60));
+    assert_eq!(a.model().unwrap().camera.pitch, -CAMERA_MAX_PITCH);
+    // Jansen's complete Cayley vector has more than three entries: x moves on.
+    let n = a.model().unwrap().solved().complexity.ccv.len();
+    assert!(n > 3, "{n}");
+    press(&mut a, "x");
+    let axes = a.model().unwrap().camera.axes;
+    assert_eq!(axes, [0, 1, 3]);
+    let screen = format!("{}", render(&a, 100, 30, Theme { color: false }).backend());
+    let names = &a.model().unwrap().analysis().linkage;
+    let ccv = &a.model().unwrap().solved().complexity.ccv;
+    let title = [0, 1, 3].map(|k| names.pair_name(ccv[k])).join(" × ");
+    assert!(screen.contains(&title), "the title names the axes {title}: {screen}");
+}
+
+/// Components and paths are numbered from 1 on screen, like `--arc 1|2`.
+#[test]
+fn components_are_numbered_from_one_on_screen() {
+    let mut a = app("jansen");
+    let k = a.model().unwrap().cursor.component;
+    let screen = |a: &App| format!("{}", render(a, 100, 30, Theme { color: false }).backend());
+    assert!(screen(&a).contains(&format!("component {} of 6", k + 1)), "{}", screen(&a));
+    // Tab and Shift-Tab are n and p.
+    handle_key(&mut a, KeyEvent::new(KeyCode::Tab, KeyModifiers::NONE));
+    assert_eq!(a.model().unwrap().cursor.component, (k + 1) % 6);
+    assert!(screen(&a).contains(&format!("component {} of 6", (k + 1) % 6 + 1)));
+    handle_key(&mut a, KeyEvent::new(KeyCode::BackTab, KeyModifiers::SHIFT));
+    assert_eq!(a.model().unwrap().cursor.component, k);
+    // Walk to the first component: it is "1", never "0".
+    for _ in 0..6 {
+        if a.model().unwrap().cursor.component == 0 {
+            break;
+        }
+        press(&mut a, "n");
+    }
+    let text = screen(&a);
+    assert!(text.contains("component 1 of 6") && !text.contains("component 0"), "{text}");
+    assert!(text.contains("▸ 1 "), "the list marks component 1: {text}");
+    press(&mut a, "0a]]b1");
+    assert!(screen(&a).contains("path 1 A→B"));
+}
+
+/// `j` selects the next joint, `J` traces or untraces it (and turns traces
+/// on), `t` turns all traces off and on; the traces are made in the update.
+#[test]
+fn joint_and_trace_keys() {
+    let mut a = app("jansen");
+    let m = a.model().unwrap();
+    let n = m.analysis().linkage.n_joints();
+    let last = n - 1;
+    assert_eq!(m.traces.selected, last);
+    let traced: Vec<usize> = m.picture.traces.iter().map(|(j, _)| *j).collect();
+    assert_eq!(traced, [last]);
+    assert_eq!(m.picture.traces[0].1.len(), m.picture.samples.positions.len());
+    press(&mut a, "j");
+    assert_eq!(a.model().unwrap().traces.selected, 0, "j wraps to the first joint");
+    press(&mut a, "J");
+    let m = a.model().unwrap();
+    assert!(m.traces.traced[0] && m.traces.on);
+    assert_eq!(m.picture.traces.iter().map(|(j, _)| *j).collect::<Vec<_>>(), [0, last]);
+    let status = format!("{}", render(&a, 100, 30, Theme { color: false }).backend());
+    let names = &m.analysis().linkage.names;
+    assert!(status.contains(&format!("traces on [{},{}]", names[0], names[last])), "{status}");
+    press(&mut a, "t");
+    assert!(!a.model().unwrap().traces.on && a.model().unwrap().picture.traces.is_empty());
+    press(&mut a, "t");
+    assert_eq!(a.model().unwrap().picture.traces.len(), 2);
+    press(&mut a, "J");
+    assert!(!a.model().unwrap().traces.traced[0]);
+}
+
+/// `+`/`=` double the step (up to the drawing's extent), `-` halves it
+/// (down to a millionth of it) and both say the new step.
+#[test]
+fn step_keys_double_and_halve_within_limits() {
+    let mut a = app("limacon");
+    let pace = a.model().unwrap().pace;
+    press(&mut a, "+");
+    assert_eq!(a.model().unwrap().pace.step, pace.step * 2.0);
+    assert!(a.message.as_deref().unwrap().starts_with("step "));
+    press(&mut a, "=");
+    assert_eq!(a.model().unwrap().pace.step, pace.step * 4.0);
+    press(&mut a, "--");
+    assert_eq!(a.model().unwrap().pace.step, pace.step);
+    press(&mut a, &"+".repeat(40));
+    assert_eq!(a.model().unwrap().pace.step, pace.extent);
+    press(&mut a, &"-".repeat(80));
+    assert_eq!(a.model().unwrap().pace.step, pace.extent * 1e-6);
+}
+
+/// `c` clears both marks and the path; `0` and `d` go back to the drawn
+/// realization and stop playing.
+#[test]
+fn clear_and_reset_keys() {
+    let mut a = app("jansen");
+    let (drawn, k) = {
+        let m = a.model().unwrap();
+        (m.cursor.lambda, m.cursor.component)
+    };
+    press(&mut a, "a]]b");
+    assert!(a.model().unwrap().marks.path.is_some());
+    press(&mut a, "1c");
+    let m = a.model().unwrap();
+    assert!(m.marks.slots.iter().all(Option::is_none) && m.marks.path.is_none() && m.marks.arcs.is_none());
+    assert_eq!(m.cursor.motion, Motion::Component(k), "c leaves the path for its component");
+    assert!(press_and(&mut a, "2").is_some(), "no path to follow without marks");
+    for reset in ["0", "d"] {
+        press(&mut a, "n]→ ");
+        assert!(a.animating());
+        press(&mut a, reset);
+        let m = a.model().unwrap();
+        assert_eq!((m.cursor.lambda, m.cursor.component, a.animating()), (drawn, k, false), "{reset}");
+    }
+}
+
+/// The message after `keys`.
+fn press_and(a: &mut App, keys: &str) -> Option<String> {
+    press(a, keys);
+    a.message.clone()
+}
+
+/// The help overlay is the key table: every row's keys and help are on it.
+#[test]
+fn the_help_overlay_lists_every_binding() {
+    use caymos::tui::keymap::BINDINGS;
+    let mut a = app("jansen");
+    press(&mut a, "?");
+    let screen = format!("{}", render(&a, 160, 48, Theme { color: false }).backend());
+    for b in BINDINGS {
+        assert!(screen.contains(&format!(" {} ", b.label())) || screen.contains(&b.label()), "{}", b.label());
+        assert!(screen.contains(b.help), "{}: {screen}", b.help);
+    }
 }
 
 proptest! {
@@ -251,6 +407,9 @@ proptest! {
             press(&mut a, &s);
             a.tick();
             t.draw(|f| view::draw(f, &a, Theme { color: true })).unwrap();
+            // Still a whole screen: the key bar (help first) is drawn.
+            let bar = format!("{}", t.backend());
+            prop_assert!(a.quit || bar.contains("? help"), "{bar}");
         }
     }
 }

@@ -283,34 +283,6 @@ fn fetch_pebble(start: usize, keep: usize, pebbles: &mut [u8], out: &mut [Vec<us
     false
 }
 
-/// Connected parts of the linkage (joints linked by bars or bodies), each sorted.
-pub fn connected_parts(linkage: &Linkage) -> Vec<Vec<usize>> {
-    let n = linkage.n_joints();
-    let mut root: Vec<usize> = (0..n).collect();
-    fn find(root: &mut [usize], mut x: usize) -> usize {
-        while root[x] != x {
-            root[x] = root[root[x]];
-            x = root[x];
-        }
-        x
-    }
-    for ([u, v], _) in linkage.constraint_edges() {
-        let (a, b) = (find(&mut root, u), find(&mut root, v));
-        root[a] = b;
-    }
-    let mut parts: Vec<Vec<usize>> = Vec::new();
-    let mut index_of_root = vec![usize::MAX; n];
-    for j in 0..n {
-        let r = find(&mut root, j);
-        if index_of_root[r] == usize::MAX {
-            index_of_root[r] = parts.len();
-            parts.push(Vec::new());
-        }
-        parts[index_of_root[r]].push(j);
-    }
-    parts
-}
-
 /// One construction step `vertex ◁ (u, w)`: the clusters `cluster_u ∋ u` and
 /// `cluster_w ∋ w` (ids in [`Decomposition::clusters`]) share `vertex`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -404,7 +376,7 @@ pub struct BaseError {
 
 /// Classify the linkage; on success its maximal clusters (merge tree included).
 pub fn classify(linkage: &Linkage) -> Result<ClusterSet, Outside> {
-    let parts = connected_parts(linkage);
+    let parts = crate::linkage::connected_parts(&linkage.graph());
     if parts.len() > 1 {
         return Err(Outside::Disconnected { parts });
     }

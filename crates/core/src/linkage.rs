@@ -1,5 +1,10 @@
 //! The linkage a scene states: joints, bars with their lengths, rigid bodies.
-//! Derived once from a [`Scene`]; the solver never looks at TOML again.
+//! Derived once from a [`Scene`]; the solver never looks at TOML again. As a
+//! graph ([`Linkage::graph`]): joints are nodes, bars and the edges holding
+//! each rigid body together are edges; connectivity is asked of that graph.
+
+use petgraph::graph::{NodeIndex, UnGraph};
+use petgraph::visit::Dfs;
 
 use crate::real::{Dd, Real};
 use crate::scene::Scene;
@@ -117,4 +122,113 @@ impl Linkage {
 pub enum Constraint {
     Bar(usize),
     Body(usize),
+}
+
+/// A joint as a node of the [`LinkageGraph`]; its node index is its joint index.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct JointNode {
+    /// The joint's name in the scene.
+    pub name: String,
+    /// Whether the joint is fixed to the ground.
+    pub ground: bool,
+}
+
+/// The constraint graph: node `j` is joint `j`; each edge is a bar, or one
+/// edge of a body's minimally rigid fan ([`Linkage::constraint_edges`]),
+/// tagged with the bar or body it came from.
+pub type LinkageGraph = UnGraph<JointNode, Constraint>;
+
+impl Linkage {
+    /// The linkage's constraint graph (see [`LinkageGraph`]).
+    pub fn graph(&self) -> LinkageGraph {
+        let edges = self.constraint_edges();
+        let mut g = LinkageGraph::with_capacity(self.n_joints(), edges.len());
+        for (j, name) in self.names.iter().enumerate() {
+            g.add_node(JointNode { name: name.clone(), ground: self.ground.contains(&j) });
+        }
+        for ([u, v], c) in edges {
+            g.add_edge(NodeIndex::new(u), NodeIndex::new(v), c);
+        }
+        g
+    }
+}
+
+/// The connected parts of a graph as sorted joint indices, ordered by their
+/// smallest joint (a graph with no node has no part).
+pub fn connected_parts(g: &LinkageGraph) -> Vec<Vec<usize>> {
+    let mut seen = vec![false; g.node_count()];
+    let mut parts = Vec::new();
+    for start in g.node_indices() {
+        if seen[start.index()] {
+            continue;
+        }
+        let mut part = Vec::new();
+        let mut dfs = Dfs::new(g, start);
+        while let Some(n) = dfs.next(g) {
+            seen[n.index()] = true;
+            part.push(n.index());
+        }
+        part.sort_unstable();
+        parts.push(part);
+    }
+    parts
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::parse_scene;
+    use petgraph::visit::EdgeRef;
+
+    fn linkage(text: &str) -> Linkage {
+        Linkage::from_scene(&parse_scene(text, "t.toml", "t").unwrap())
+    }
+
+    #[test]
+    fn nodes_are_joints_and_edges_are_bars_and_body_fans() {
+        let l = linkage(
+            r#"
+ground = ["A", "B"]
+bars = [["A", "B"], ["B", "C"]]
+bodies = [["C", "D", "E", "F"]]
+[joints]
+A = [0, 0]
+B = [1, 0]
+C = [2, 0]
+D = [3, 1]
+E = [3, -1]
+F = [4, 0]
+"#,
+        );
+        let g = l.graph();
+        assert_eq!(g.node_count(), 6);
+        // 2 bars + a fan of 2·4 − 3 = 5 edges for the body.
+        assert_eq!(g.edge_count(), 7);
+        assert_eq!(g[NodeIndex::new(2)], JointNode { name: "C".into(), ground: false });
+        assert!(g[NodeIndex::new(0)].ground && g[NodeIndex::new(1)].ground);
+        let bars: Vec<[usize; 2]> = g
+            .edge_references()
+            .filter(|e| matches!(e.weight(), Constraint::Bar(_)))
+            .map(|e| [e.source().index(), e.target().index()])
+            .collect();
+        assert_eq!(bars, vec![[0, 1], [1, 2]]);
+        assert_eq!(connected_parts(&g), vec![vec![0, 1, 2, 3, 4, 5]]);
+    }
+
+    #[test]
+    fn parts_are_found_in_order_of_their_smallest_joint() {
+        let l = linkage(
+            r#"
+bars = [["A", "C"], ["B", "D"], ["D", "E"]]
+[joints]
+A = [0, 0]
+B = [1, 0]
+C = [2, 0]
+D = [3, 1]
+E = [3, -1]
+F = [5, 5]
+"#,
+        );
+        assert_eq!(connected_parts(&l.graph()), vec![vec![0, 2], vec![1, 3, 4], vec![5]]);
+    }
 }
