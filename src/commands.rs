@@ -10,9 +10,9 @@ use serde::Serialize;
 use crate::analysis::{Analysis, Solved};
 use crate::distance::{Certificate, ClosestOptions, ClosestPair, Outcome, closest_pair};
 use crate::motion::{
-    Realization, Segment, Stepper, WalkSummary, arcs, bounding_diagonal, component_segments, explain_missing, locate,
-    measure,
+    Segment, Stepper, WalkSummary, arcs, bounding_diagonal, component_segments, explain_missing, locate, measure,
 };
+use crate::realize::Realization;
 use crate::report::fmt_num;
 use crate::tolerance;
 
@@ -651,7 +651,7 @@ pub fn trace_csv(
             let _ = write!(row, ",{},{}", p[0], p[1]);
         }
         if cayley {
-            for d in crate::distance::cayley_vector(&sample.positions, &s.complexity.ccv) {
+            for d in crate::cayley_vector::cayley_vector(&sample.positions, &s.complexity.ccv) {
                 let _ = write!(row, ",{d}");
             }
         }

@@ -2,9 +2,10 @@
 //! terminal here, so every behaviour is testable with a list of key presses.
 
 use crate::analysis::{Analysis, Solved};
+use crate::cayley_vector::cayley_vector;
 use crate::commands::{self, PathReport, Walk};
-use crate::distance::cayley_vector;
-use crate::motion::{Realization, Segment, Stepper, arcs, component_segments, locate, realization_at};
+use crate::motion::{Segment, Stepper, arcs, component_segments, locate, realization_at};
+use crate::realize::Realization;
 use crate::realize::{P2, RealizationType};
 use crate::report::fmt_num;
 use crate::tolerance;
@@ -514,7 +515,7 @@ impl Model {
                 }
             }
             Action::StepBigger => self.step = (self.step * 2.0).min(self.extent),
-            Action::StepSmaller => self.step = (self.step / 2.0).max(self.extent * 1e-6),
+            Action::StepSmaller => self.step = (self.step / 2.0).max(self.extent * tolerance::TUI_MIN_STEP_FRACTION),
             Action::Reset => self.reset(),
             Action::GoTo | Action::Help | Action::Quit => {}
         }
@@ -582,7 +583,8 @@ impl Model {
         let candidates: Vec<usize> = (0..self.segments.len())
             .filter(|&i| {
                 let sg = &self.segments[i];
-                lambda >= sg.from.min(sg.to) - 1e-12 * scale && lambda <= sg.from.max(sg.to) + 1e-12 * scale
+                lambda >= sg.from.min(sg.to) - tolerance::TUI_GOTO_MARGIN * scale
+                    && lambda <= sg.from.max(sg.to) + tolerance::TUI_GOTO_MARGIN * scale
             })
             .collect();
         let pick = candidates.iter().copied().find(|&i| &self.segments[i].ty == here).or(candidates.first().copied());

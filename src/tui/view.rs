@@ -270,7 +270,7 @@ fn draw_curve(frame: &mut Frame, m: &Model, area: Rect, theme: Theme) {
     let (yaw, pitch) = (m.yaw, m.pitch);
     let current = m.cayley_vector();
     let ccv_names: Vec<String> = m.solved.complexity.ccv.iter().map(|&p| m.analysis.linkage.pair_name(p)).collect();
-    let mirror = crate::distance::mirror_images_exist(&m.solved.construction, &m.solved.dec);
+    let mirror = crate::cayley_vector::mirror_images_exist(&m.solved.construction, &m.solved.dec);
     let empty = super::app::MotionSamples {
         generation: 0,
         positions: Vec::new(),

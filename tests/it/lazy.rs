@@ -5,8 +5,9 @@ use caymos::bundled;
 use caymos::cayley_space::CayleySpace;
 use caymos::generate::{chain, hard_cases, random_linkage, strandbeest, to_toml};
 use caymos::lazy::{LazyOptions, component_through};
-use caymos::motion::{Component, Realization, components};
+use caymos::motion::{Component, components};
 use caymos::real::Jet;
+use caymos::realize::Realization;
 use caymos::scene::Scene;
 use proptest::prelude::*;
 

@@ -7,10 +7,11 @@
 use crate::helpers::*;
 use caymos::analysis::{Scope, analyse_with};
 use caymos::bundled;
-use caymos::cayley_space::{Event, Kind, OrientedInterval};
+use caymos::cayley_space::OrientedInterval;
 use caymos::generate::{chain, four_bar, random_linkage};
 use caymos::lazy::{LazyOptions, component_through};
 use caymos::real::{Dd, Jet, Real};
+use caymos::realize::{Event, Kind};
 use caymos::scene::{Scene, parse_scene};
 use proptest::prelude::*;
 

@@ -9,9 +9,9 @@ use crate::complexity::{Complexity, four_cycle_test};
 use crate::decompose::{Decomposition, Outside, decompose};
 use crate::lazy::{LazyOptions, component_through};
 use crate::linkage::Linkage;
-use crate::motion::{Components, Realization, components, locate};
+use crate::motion::{Components, components, locate};
 use crate::real::{Dd, Jet, Real};
-use crate::realize::{Construction, Drawn, P2, Unrealizable, bar_residual, drawn_realization, to_display};
+use crate::realize::{Construction, Drawn, P2, Realization, Unrealizable, bar_residual, drawn_realization, to_display};
 use crate::scene::{Scene, SceneError};
 
 /// Wall-clock time of each phase, in microseconds (for the report; never asserted).

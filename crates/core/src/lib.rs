@@ -28,6 +28,7 @@
 //! ```
 pub mod analysis;
 pub mod cayley_space;
+pub mod cayley_vector;
 pub mod certify;
 pub mod complexity;
 pub mod decompose;
@@ -41,5 +42,6 @@ pub mod motion;
 pub mod numfmt;
 pub mod real;
 pub mod realize;
+pub mod roots;
 pub mod scene;
 pub mod tolerance;

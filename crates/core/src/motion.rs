@@ -4,9 +4,9 @@
 
 use std::collections::HashMap;
 
-use crate::cayley_space::{CayleySpace, Event, OrientedInterval};
+use crate::cayley_space::{CayleySpace, OrientedInterval};
 use crate::linkage::Linkage;
-use crate::realize::{Construction, P2, RealizationType, to_display};
+use crate::realize::{Construction, Event, P2, Realization, RealizationType, to_display};
 
 /// Which end of an interval.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -55,7 +55,7 @@ pub struct Components {
     pub branch_points: Vec<BranchPoint>,
 }
 
-fn end(i: &OrientedInterval<f64>, side: Side) -> &crate::cayley_space::Endpoint<f64> {
+fn end(i: &OrientedInterval<f64>, side: Side) -> &crate::roots::Endpoint<f64> {
     match side {
         Side::Lower => &i.lower,
         Side::Upper => &i.upper,
@@ -154,33 +154,6 @@ pub fn components(space: &CayleySpace<f64>) -> Components {
     Components { list, of_interval, branch_points }
 }
 
-/// A realization named by type and base length.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Realization {
-    pub ty: RealizationType,
-    pub lambda: f64,
-}
-
-impl Realization {
-    /// Parse `TYPE@LAMBDA`, e.g. `-+-+@41.2`.
-    pub fn parse(text: &str) -> Result<Self, String> {
-        let (ty, lambda) =
-            text.split_once('@').ok_or_else(|| format!("\"{text}\": expected TYPE@LAMBDA, e.g. -+-+@41.2"))?;
-        let ty = RealizationType::parse(ty.trim()).ok_or_else(|| format!("\"{ty}\": a type is a string of + and -"))?;
-        let lambda: f64 = lambda.trim().parse().map_err(|_| format!("\"{lambda}\": not a number"))?;
-        if !lambda.is_finite() {
-            return Err(format!("\"{lambda}\": not a finite number"));
-        }
-        Ok(Realization { ty, lambda })
-    }
-}
-
-impl std::fmt::Display for Realization {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "{}@{}", self.ty, self.lambda)
-    }
-}
-
 /// The oriented interval holding a realization (its own type's interval).
 pub fn locate(space: &CayleySpace<f64>, r: &Realization, scale: f64) -> Option<usize> {
     let tol = crate::tolerance::FEASIBLE * scale;
@@ -242,7 +215,7 @@ pub fn component_segments(space: &CayleySpace<f64>, c: &Component) -> Vec<Segmen
         .map(|(&i, &fwd)| {
             let iv = &space.intervals[i];
             let (a, b) = if fwd { (&iv.lower, &iv.upper) } else { (&iv.upper, &iv.lower) };
-            let steps = |e: &crate::cayley_space::Endpoint<f64>| e.events.iter().map(|ev| ev.step).collect();
+            let steps = |e: &crate::roots::Endpoint<f64>| e.events.iter().map(|ev| ev.step).collect();
             Segment {
                 interval: i,
                 ty: iv.ty.clone(),
@@ -506,7 +479,8 @@ impl<'a> Stepper<'a> {
             let target = if delta >= remaining.abs() { s.to } else { self.lambda + delta * remaining.signum() };
             let pos = self.positions(target, &s.ty);
             // Below a few ulps of λ the step cannot shrink: accept, as a jump if it moved too far.
-            let small = delta <= 4.0 * f64::EPSILON * self.lambda.abs().max(self.con.scale);
+            let resolution = crate::tolerance::LAMBDA_RESOLUTION_ULPS * (f64::EPSILON / 2.0);
+            let small = delta <= resolution * self.lambda.abs().max(self.con.scale);
             match pos {
                 Some(pos) => {
                     let moved = max_move(&pos, last);
@@ -538,7 +512,9 @@ pub fn realization_at(con: &Construction<f64>, linkage: &Linkage, s: &Segment, l
     };
     let n = con.steps.len();
     let pos = con.realize_flat(lambda, &s.ty.0, n, flat).ok().or_else(|| {
-        [1e-12, 1e-10, 1e-8].iter().find_map(|e| con.realize(lambda + inward * e * con.scale, &s.ty).ok())
+        crate::tolerance::DEGENERATE_NUDGES
+            .iter()
+            .find_map(|e| con.realize(lambda + inward * e * con.scale, &s.ty).ok())
     })?;
     let shown = to_display(linkage, con.base, &pos);
     shown.iter().all(|p| p[0].is_finite() && p[1].is_finite()).then_some(shown)
@@ -599,12 +575,12 @@ pub fn measure(
     let mut prev: Option<(Vec<P2<f64>>, Vec<f64>)> = None;
     let mut walk = Stepper::new(con, linkage, segments, step).with_budget(budget);
     for s in walk.by_ref() {
-        let v = crate::distance::cayley_vector(&s.positions, ccv);
+        let v = crate::cayley_vector::cayley_vector(&s.positions, ccv);
         if let (Some((p, w)), false) = (&prev, s.jump) {
             for (t, (a, b)) in travel.iter_mut().zip(p.iter().zip(&s.positions)) {
                 *t += (a[0] - b[0]).hypot(a[1] - b[1]);
             }
-            cayley_length += crate::distance::euclid(w, &v);
+            cayley_length += crate::cayley_vector::euclid(w, &v);
         }
         prev = Some((s.positions, v));
     }

@@ -333,7 +333,7 @@ impl Dd {
 /// of `T`'s roundoff times the result), so a sign read from a ball whose
 /// radius is below |m| is proven. Used to decide structural questions (is
 /// a slack positive, zero or negative at an event) without tolerances;
-/// see [`crate::certify`].
+/// see the `certify` module.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Ball<T> {
     pub m: T,

@@ -9,7 +9,7 @@ use std::fmt;
 
 use crate::decompose::{ClusterSet, Decomposition, Origin};
 use crate::linkage::Linkage;
-use crate::real::Real;
+use crate::real::{Jet, Real};
 use crate::tolerance;
 
 pub type P2<T> = [T; 2];
@@ -74,6 +74,81 @@ impl fmt::Display for RealizationType {
         }
         Ok(())
     }
+}
+
+/// A realization named by type and base length.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Realization {
+    pub ty: RealizationType,
+    pub lambda: f64,
+}
+
+impl Realization {
+    /// Parse `TYPE@LAMBDA`, e.g. `-+-+@41.2`.
+    pub fn parse(text: &str) -> Result<Self, String> {
+        let (ty, lambda) =
+            text.split_once('@').ok_or_else(|| format!("\"{text}\": expected TYPE@LAMBDA, e.g. -+-+@41.2"))?;
+        let ty = RealizationType::parse(ty.trim()).ok_or_else(|| format!("\"{ty}\": a type is a string of + and -"))?;
+        let lambda: f64 = lambda.trim().parse().map_err(|_| format!("\"{lambda}\": not a number"))?;
+        if !lambda.is_finite() {
+            return Err(format!("\"{lambda}\": not a finite number"));
+        }
+        Ok(Realization { ty, lambda })
+    }
+}
+
+impl std::fmt::Display for Realization {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}@{}", self.ty, self.lambda)
+    }
+}
+
+/// How a step is flat at an endpoint.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Kind {
+    /// d = r1 + r2
+    Stretched,
+    /// d = |r1 − r2|
+    Folded,
+}
+
+impl Kind {
+    pub fn name(self) -> &'static str {
+        match self {
+            Kind::Stretched => "stretched",
+            Kind::Folded => "folded",
+        }
+    }
+
+    /// The base distance at which a step with sides r1, r2 is flat this way.
+    pub fn target<T: Real>(self, r1: T, r2: T) -> T {
+        match self {
+            Kind::Stretched => r1 + r2,
+            Kind::Folded => (r1 - r2).abs(),
+        }
+    }
+
+    /// The step's slack for this kind at base distance `d` (a jet, so with
+    /// its slope and curvature): positive where this side of the triangle closes.
+    pub fn slack<T: Real>(self, r1: T, r2: T, d: Jet<T>) -> Jet<T> {
+        self.slack_value(Jet::constant(r1), Jet::constant(r2), d)
+    }
+
+    /// [`Self::slack`] in any arithmetic.
+    pub fn slack_value<T: Real>(self, r1: T, r2: T, d: T) -> T {
+        let t = self.target(r1, r2);
+        match self {
+            Kind::Stretched => t - d,
+            Kind::Folded => d - t,
+        }
+    }
+}
+
+/// Step `step` is flat (`kind`) at an endpoint.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct Event {
+    pub step: usize,
+    pub kind: Kind,
 }
 
 /// A cluster joint placed from a step's frame (p, q): `j = p + α(q−p) + β·perp(q−p)`.

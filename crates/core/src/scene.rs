@@ -409,7 +409,7 @@ fn parse_joint(doc: &Doc, key: &Spanned<DeString>, value: &Value) -> Result<Join
 }
 
 /// Half the scene's scale, as the solver defines it
-/// ([`crate::linkage::Linkage::scale`]): the longest bar (stated length, else
+/// (`Linkage::scale`): the longest bar (stated length, else
 /// drawn) or body span. Halved so that drawings near ±f64::MAX stay finite.
 fn half_scale(joints: &[Joint], bars: &[Bar], bodies: &[Body]) -> f64 {
     let half_dist = |a: usize, b: usize| half_distance(joints[a].pos, joints[b].pos);
@@ -425,15 +425,11 @@ fn half_distance(p: [f64; 2], q: [f64; 2]) -> f64 {
     (p[0] / 2.0 - q[0] / 2.0).hypot(p[1] / 2.0 - q[1] / 2.0)
 }
 
-/// Whether two points are drawn at the same point: exactly equal, within
-/// [`crate::tolerance::COINCIDENT`] × the scene's scale, or closer than the
-/// drawing can resolve ([`crate::tolerance::DRAWN_RESOLUTION_ULPS`] units in
-/// the last place of their coordinates).
+/// Whether two points are drawn at the same point: exactly equal, or the
+/// same to [`crate::tolerance::same_drawn_point`].
 fn same_point(p: [f64; 2], q: [f64; 2], half_scale: f64) -> bool {
-    let d = half_distance(p, q);
-    let magnitude = p.iter().chain(&q).fold(0.0f64, |m, x| m.max(x.abs())) / 2.0;
-    let resolution = crate::tolerance::DRAWN_RESOLUTION_ULPS * f64::EPSILON * magnitude;
-    p == q || d <= crate::tolerance::COINCIDENT * half_scale || d <= resolution
+    let half_magnitude = p.iter().chain(&q).fold(0.0f64, |m, x| m.max(x.abs())) / 2.0;
+    p == q || crate::tolerance::same_drawn_point(half_distance(p, q), half_magnitude, half_scale)
 }
 
 /// No two joints may be drawn at the same point (see [`same_point`]): the
