@@ -6,7 +6,7 @@ use crate::cayley_vector::cayley_vector;
 use crate::commands::{self, PathReport, Walk};
 use crate::motion::{Segment, Stepper, arcs, component_segments, locate, realization_at};
 use crate::realize::Realization;
-use crate::realize::{P2, RealizationType};
+use crate::realize::{Point2, RealizationType};
 use crate::report::fmt_num;
 use crate::tolerance;
 
@@ -43,7 +43,7 @@ pub struct Model {
     pub seg: usize,
     pub lambda: f64,
     /// The current realization, display frame.
-    pub positions: Vec<P2<f64>>,
+    pub positions: Vec<Point2<f64>>,
     /// The component the current realization lies in.
     pub component: usize,
     /// Geometric step (largest joint move per small step), scene units.
@@ -75,7 +75,7 @@ pub struct Model {
 /// Samples of the current motion (for traces and the Cayley curve).
 pub struct MotionSamples {
     pub generation: u64,
-    pub positions: Vec<Vec<P2<f64>>>,
+    pub positions: Vec<Vec<Point2<f64>>>,
     pub cayley: Vec<Vec<f64>>,
     pub types: Vec<RealizationType>,
     /// Whether each sample is reached by a jump (drawn lines break there).
@@ -235,7 +235,7 @@ impl Model {
             *last = true; // the last joint is usually the coupler point or the foot
         }
         // Until a realization is computed: the drawn one (never empty).
-        let positions = solved.drawn_positions.clone().unwrap_or_else(|| analysis.linkage.drawn.clone());
+        let positions = solved.drawn_positions.clone().unwrap_or_else(|| analysis.linkage.drawn_points());
         let ccv_len = solved.complexity.ccv.len();
         let axes = [0, 1.min(ccv_len.saturating_sub(1)), 2.min(ccv_len.saturating_sub(1))];
         let mut m = Model {
@@ -625,7 +625,7 @@ impl Model {
     fn component_bounds(&self) -> [f64; 4] {
         let a = &self.analysis;
         let mut b = [f64::INFINITY, f64::INFINITY, f64::NEG_INFINITY, f64::NEG_INFINITY];
-        let mut add = |p: &P2<f64>| {
+        let mut add = |p: &Point2<f64>| {
             b[0] = b[0].min(p[0]);
             b[1] = b[1].min(p[1]);
             b[2] = b[2].max(p[0]);

@@ -224,7 +224,7 @@ fn draw_linkage(frame: &mut Frame, m: &Model, area: Rect, theme: Theme) {
                 .iter()
                 .map(|&j| {
                     let points =
-                        s.positions.iter().map(|p| unit(p[j])).filter(|p| p[0].is_finite() && p[1].is_finite());
+                        s.positions.iter().map(|p| unit(p[j].into())).filter(|p| p[0].is_finite() && p[1].is_finite());
                     (j, points.map(|p| (p[0], p[1])).collect())
                 })
                 .collect()
@@ -232,7 +232,7 @@ fn draw_linkage(frame: &mut Frame, m: &Model, area: Rect, theme: Theme) {
         _ => Vec::new(),
     };
     let l = &m.analysis.linkage;
-    let pos: Vec<[f64; 2]> = m.positions.iter().map(|&p| unit(p)).collect();
+    let pos: Vec<[f64; 2]> = m.positions.iter().map(|&p| unit(p.into())).collect();
     let ccv = &m.solved.complexity.ccv;
     let title = Line::from(vec![
         Span::styled(format!(" {} ", m.analysis.scene.name), theme.title()),

@@ -11,7 +11,9 @@ use crate::lazy::{LazyOptions, component_through};
 use crate::linkage::Linkage;
 use crate::motion::{Components, components, locate};
 use crate::real::{Dd, Jet, Real};
-use crate::realize::{Construction, Drawn, P2, Realization, Unrealizable, bar_residual, drawn_realization, to_display};
+use crate::realize::{
+    Construction, Drawn, Point2, Realization, Unrealizable, bar_residual, drawn_realization, to_display,
+};
 use crate::scene::{Scene, SceneError};
 
 /// Wall-clock time of each phase, in microseconds (for the report; never asserted).
@@ -88,7 +90,7 @@ pub struct Solved {
     pub certifier: Certifier,
     pub drawn: Drawn,
     /// The drawn realization in the display frame (the drawing itself unless a sketch).
-    pub drawn_positions: Option<Vec<P2<f64>>>,
+    pub drawn_positions: Option<Vec<Point2<f64>>>,
     pub sketch: Option<SketchFit>,
     pub space: CayleySpace<f64>,
     /// The non-oriented Cayley configuration space.

@@ -3,10 +3,10 @@
 //! distance, and when a Cayley curve stands for a mirror pair.
 
 use crate::decompose::Decomposition;
-use crate::realize::{Construction, P2, RealizationType};
+use crate::realize::{Construction, Point2, RealizationType};
 
 /// The complete Cayley distance vector: the lengths of the CCV non-edges.
-pub fn cayley_vector(pos: &[P2<f64>], ccv: &[[usize; 2]]) -> Vec<f64> {
+pub fn cayley_vector(pos: &[Point2<f64>], ccv: &[[usize; 2]]) -> Vec<f64> {
     ccv.iter().map(|&[p, q]| (pos[q][0] - pos[p][0]).hypot(pos[q][1] - pos[p][1])).collect()
 }
 

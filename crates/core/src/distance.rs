@@ -20,7 +20,7 @@ use crate::decompose::Decomposition;
 use crate::enclosure::{Half, enclose, halves};
 use crate::interval::{Centred, Dual, Interval};
 use crate::motion::{Component, Segment, component_segments};
-use crate::realize::{Construction, Realization, RealizationType};
+use crate::realize::{Construction, Realization, RealizationType, points};
 use crate::tolerance;
 
 /// Point enclosures spent at most on polishing the best pair (a few ms).
@@ -629,7 +629,7 @@ fn named(
     let seg = &segs[hs[h].segment];
     let r = Realization { ty: seg.ty.clone(), lambda: hs[h].lambda(t, seg) };
     let flat: &[usize] = if t == 0.0 { &hs[h].flat_steps } else { &[] };
-    let v = con.realize_flat(r.lambda, &r.ty.0, con.steps.len(), flat).ok().map(|p| cayley_vector(&p, ccv));
+    let v = con.realize_flat(r.lambda, &r.ty.0, con.steps.len(), flat).ok().map(|p| cayley_vector(&points(&p), ccv));
     (r, v)
 }
 

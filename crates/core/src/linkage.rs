@@ -82,6 +82,11 @@ impl Linkage {
         }
     }
 
+    /// The drawn positions as points (scene units, y up).
+    pub fn drawn_points(&self) -> Vec<nalgebra::Point2<f64>> {
+        self.drawn.iter().map(|&p| p.into()).collect()
+    }
+
     pub fn n_joints(&self) -> usize {
         self.names.len()
     }

@@ -6,7 +6,7 @@ use std::collections::HashMap;
 
 use crate::cayley_space::{CayleySpace, OrientedInterval};
 use crate::linkage::Linkage;
-use crate::realize::{Construction, Event, P2, Realization, RealizationType, to_display};
+use crate::realize::{Construction, Event, Point2, Realization, RealizationType, to_display};
 
 /// Which end of an interval.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -287,7 +287,7 @@ pub struct Sample {
     pub lambda: f64,
     pub ty: RealizationType,
     /// Joint positions in the display frame.
-    pub positions: Vec<P2<f64>>,
+    pub positions: Vec<Point2<f64>>,
     /// Index of the segment this sample belongs to.
     pub segment: usize,
     /// Set when the sample is a segment's end (an interval endpoint, except at the walk's end).
@@ -327,7 +327,7 @@ impl WalkSummary {
 /// The diagonal of the points' bounding box: the drawing's extent, the unit
 /// of default steps. Computed on halved coordinates so that drawings near
 /// ±f64::MAX do not overflow; 0 for fewer than two distinct points.
-pub fn bounding_diagonal(points: &[P2<f64>]) -> f64 {
+pub fn bounding_diagonal(points: &[Point2<f64>]) -> f64 {
     let mut lo = [f64::INFINITY; 2];
     let mut hi = [f64::NEG_INFINITY; 2];
     for p in points {
@@ -355,7 +355,7 @@ pub struct Stepper<'a> {
     step: f64,
     seg: usize,
     lambda: f64,
-    last: Option<Vec<P2<f64>>>,
+    last: Option<Vec<Point2<f64>>>,
     delta: f64,
     done: bool,
     budget: usize,
@@ -395,7 +395,7 @@ impl<'a> Stepper<'a> {
         &self.summary
     }
 
-    fn positions(&self, lambda: f64, ty: &RealizationType) -> Option<Vec<P2<f64>>> {
+    fn positions(&self, lambda: f64, ty: &RealizationType) -> Option<Vec<Point2<f64>>> {
         let s = &self.segments[self.seg];
         realization_at(self.con, self.linkage, &Segment { ty: ty.clone(), ..s.clone() }, lambda)
     }
@@ -472,7 +472,7 @@ impl<'a> Stepper<'a> {
     /// realization there with its largest joint move (`None`: no realization
     /// at the finest resolution).
     #[allow(clippy::type_complexity)]
-    fn search(&self, s: &Segment, mut delta: f64) -> (f64, f64, Option<(Vec<P2<f64>>, f64)>) {
+    fn search(&self, s: &Segment, mut delta: f64) -> (f64, f64, Option<(Vec<Point2<f64>>, f64)>) {
         let remaining = s.to - self.lambda;
         let last = self.last.as_deref().unwrap_or_default();
         loop {
@@ -501,7 +501,12 @@ impl<'a> Stepper<'a> {
 /// exactly at λ (its base joints coincide, as in a folded rhombus) the limit
 /// is taken by nudging λ toward the segment's interior. `None` when no
 /// realization can be computed there (or it is not finite).
-pub fn realization_at(con: &Construction<f64>, linkage: &Linkage, s: &Segment, lambda: f64) -> Option<Vec<P2<f64>>> {
+pub fn realization_at(
+    con: &Construction<f64>,
+    linkage: &Linkage,
+    s: &Segment,
+    lambda: f64,
+) -> Option<Vec<Point2<f64>>> {
     let inward = if lambda == s.to { s.from - s.to } else { s.to - s.from }.signum();
     let flat: &[usize] = if lambda == s.to {
         &s.flat_to
@@ -520,7 +525,7 @@ pub fn realization_at(con: &Construction<f64>, linkage: &Linkage, s: &Segment, l
     shown.iter().all(|p| p[0].is_finite() && p[1].is_finite()).then_some(shown)
 }
 
-fn max_move(a: &[P2<f64>], b: &[P2<f64>]) -> f64 {
+fn max_move(a: &[Point2<f64>], b: &[Point2<f64>]) -> f64 {
     a.iter().zip(b).map(|(p, q)| (p[0] - q[0]).hypot(p[1] - q[1])).fold(0.0, f64::max)
 }
 
@@ -572,7 +577,7 @@ pub fn measure(
 ) -> PathMeasure {
     let mut travel = vec![0.0; linkage.n_joints()];
     let mut cayley_length = 0.0;
-    let mut prev: Option<(Vec<P2<f64>>, Vec<f64>)> = None;
+    let mut prev: Option<(Vec<Point2<f64>>, Vec<f64>)> = None;
     let mut walk = Stepper::new(con, linkage, segments, step).with_budget(budget);
     for s in walk.by_ref() {
         let v = crate::cayley_vector::cayley_vector(&s.positions, ccv);

@@ -12,7 +12,22 @@ use crate::linkage::Linkage;
 use crate::real::{Jet, Real};
 use crate::tolerance;
 
+/// A point `[x, y]` of the generic-scalar construction. Not nalgebra's
+/// [`Point2`]: that needs `T: Scalar` (and `RealField` for its geometry),
+/// which the double-double, jet and ball types here do not implement, and
+/// this code runs in all four of f64, [`crate::real::Dd`], [`Jet`] and
+/// [`crate::real::Ball`]. Positions handed to callers in f64 are
+/// [`Point2`]s ([`to_display`], [`points`]).
 pub type P2<T> = [T; 2];
+
+/// The type of the f64 joint positions handed to callers (re-exported, so
+/// callers need not depend on nalgebra's version themselves).
+pub use nalgebra::Point2;
+
+/// Base-frame f64 positions (as [`Construction::realize`] gives them) as points.
+pub fn points(pos: &[P2<f64>]) -> Vec<Point2<f64>> {
+    pos.iter().map(|&p| Point2::from(p)).collect()
+}
 
 fn sub<T: Real>(p: P2<T>, q: P2<T>) -> P2<T> {
     [p[0] - q[0], p[1] - q[1]]
@@ -535,7 +550,7 @@ pub fn drawn_realization(linkage: &Linkage, dec: &Decomposition) -> Drawn {
 /// The display frame: a rigid motion that keeps the ground joints where the
 /// scene drew them (one ground joint: it stays put and the base keeps its
 /// drawn direction).
-pub fn to_display(linkage: &Linkage, base: [usize; 2], pos: &[P2<f64>]) -> Vec<P2<f64>> {
+pub fn to_display(linkage: &Linkage, base: [usize; 2], pos: &[P2<f64>]) -> Vec<Point2<f64>> {
     let g = &linkage.ground;
     let (r0, r1, d0, d1) = if g.len() >= 2 {
         (pos[g[0]], pos[g[1]], linkage.drawn[g[0]], linkage.drawn[g[1]])
@@ -556,24 +571,25 @@ pub fn to_display(linkage: &Linkage, base: [usize; 2], pos: &[P2<f64>]) -> Vec<P
     pos.iter()
         .map(|&x| {
             let r = sub(x, r0);
-            [d0[0] + c * r[0] - s * r[1], d0[1] + s * r[0] + c * r[1]]
+            Point2::new(d0[0] + c * r[0] - s * r[1], d0[1] + s * r[0] + c * r[1])
         })
         .collect()
 }
 
 /// Largest |length − bar length| over all bars, and over all body edges
 /// against their drawn shape, in scene units.
-pub fn bar_residual(linkage: &Linkage, pos: &[P2<f64>]) -> f64 {
+pub fn bar_residual(linkage: &Linkage, pos: &[Point2<f64>]) -> f64 {
+    let at = |j: usize| -> P2<f64> { pos[j].into() };
     let mut worst: f64 = 0.0;
     for bar in &linkage.bars {
-        let l = norm(sub(pos[bar.joints[1]], pos[bar.joints[0]]));
+        let l = norm(sub(at(bar.joints[1]), at(bar.joints[0])));
         worst = worst.max((l - bar.length).abs());
     }
     for body in &linkage.bodies {
         for (i, &p) in body.iter().enumerate() {
             for &q in &body[i + 1..] {
                 let drawn = norm(sub(linkage.drawn[q], linkage.drawn[p]));
-                worst = worst.max((norm(sub(pos[q], pos[p])) - drawn).abs());
+                worst = worst.max((norm(sub(at(q), at(p))) - drawn).abs());
             }
         }
     }
