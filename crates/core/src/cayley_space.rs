@@ -7,7 +7,7 @@
 //! - **exact** (LCC): the closed-form candidates of [`crate::invert`], each
 //!   checked against this prefix;
 //! - **numeric** (any linkage, and the only way for non-LCC steps): a
-//!   bracketing search described at [`numeric_roots`].
+//!   bracketing search described at `Sweep::numeric_roots`.
 //!
 //! Each root is classified by the sign of the step's slack on either side,
 //! read from its first derivative (or second, at a tangency) computed
@@ -31,8 +31,11 @@ use crate::tolerance;
 /// (`lower == upper` for an isolated point).
 #[derive(Clone, Debug, PartialEq)]
 pub struct OrientedInterval<T> {
+    /// The realization type realizable on the interval.
     pub ty: RealizationType,
+    /// The lower end (smaller λ).
     pub lower: Endpoint<T>,
+    /// The upper end (larger λ; the same λ for an isolated point).
     pub upper: Endpoint<T>,
 }
 
@@ -41,18 +44,45 @@ pub struct OrientedInterval<T> {
 #[derive(Clone, Debug, PartialEq)]
 pub enum Note {
     /// Two or more steps flat at the same λ (a possible branch point).
-    Coincident { lambda: f64, events: Vec<Event> },
+    Coincident {
+        /// Where (base length).
+        lambda: f64,
+        /// The steps flat there.
+        events: Vec<Event>,
+    },
     /// The slack of a step touches zero without changing sign: an isolated
     /// realizable point (`inside == false`) or a touch inside an interval.
-    Tangency { lambda: f64, event: Event, inside: bool },
+    Tangency {
+        /// Where (base length).
+        lambda: f64,
+        /// The step whose slack touches zero.
+        event: Event,
+        /// A touch inside an interval (`true`) or an isolated point.
+        inside: bool,
+    },
     /// Roots or signs that could not be separated at working precision.
-    Unresolved { lambda: f64, step: usize, detail: String },
+    Unresolved {
+        /// Where (base length).
+        lambda: f64,
+        /// The step concerned.
+        step: usize,
+        /// What could not be separated, as a sentence.
+        detail: String,
+    },
     /// The base length reaches zero (the base joints coincide).
-    ZeroBase { step: usize },
+    ZeroBase {
+        /// The step flat at λ = 0.
+        step: usize,
+    },
     /// Step `step`'s base joints coincide all along a piece of λ: its vertex
     /// is free to turn (an extra degree of freedom, as in a folded rhombus).
     /// Those types have no realization there.
-    Degenerate { lambda: [f64; 2], step: usize },
+    Degenerate {
+        /// The piece of λ, [from, to].
+        lambda: [f64; 2],
+        /// The degenerate step.
+        step: usize,
+    },
 }
 
 impl Note {
@@ -71,14 +101,22 @@ pub enum Method {
     /// The numeric root search for every step, with this many samples per
     /// piece; roots are bisected until their bracket is below `tol` × scale
     /// (0: to full precision).
-    Numeric { samples: usize, tol: f64 },
+    Numeric {
+        /// Samples per piece of λ (at least 4).
+        samples: usize,
+        /// Bisection stops at a bracket this wide (× scale); 0: full precision.
+        tol: f64,
+    },
 }
 
+/// The oriented Cayley configuration space: the intervals of every type computed, and what was met on the way.
 #[derive(Clone, Debug)]
 pub struct CayleySpace<T> {
     /// Sorted by type, then λ.
     pub intervals: Vec<OrientedInterval<T>>,
+    /// Non-generic events and undecided places met while computing.
     pub notes: Vec<Note>,
+    /// How the endpoints were found.
     pub method: Method,
     /// Steps whose endpoints came from the numeric search.
     pub numeric_steps: Vec<usize>,

@@ -35,9 +35,13 @@ use crate::tolerance;
 /// question has no answer.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Sign {
+    /// Proven below zero.
     Negative,
+    /// Zero to double-double resolution (not separable from zero).
     Zero,
+    /// Proven above zero.
     Positive,
+    /// An earlier step cannot close there: the question has no answer.
     Undefined,
 }
 
@@ -61,9 +65,13 @@ pub struct Certifier {
 /// Whether a step closes at a point (see [`Certifier::closes`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Closes {
+    /// Both slacks proven positive: the step closes.
     Yes,
+    /// A slack proven negative: the step cannot close.
     No,
+    /// Equal sides and a zero base distance: the vertex turns freely.
     Degenerate,
+    /// Not decided at double-double resolution.
     Unknown,
 }
 
@@ -78,11 +86,14 @@ struct Value {
 /// point inside an interval, whose λ is then taken as exact).
 #[derive(Clone, Copy, Debug)]
 pub struct At<'a> {
+    /// The base length λ (scene units).
     pub lambda: f64,
+    /// The steps flat there (empty inside an interval, where λ is exact).
     pub events: &'a [Event],
 }
 
 impl Certifier {
+    /// The construction in every arithmetic a decision may need; `None` when a cluster's stated lengths do not close.
     pub fn new(linkage: &Linkage, dec: &Decomposition) -> Option<Self> {
         Some(Certifier {
             f64_balls: Construction::new(linkage, dec).ok()?,
@@ -155,7 +166,7 @@ impl Certifier {
         if y.abs() > error { if y > 0.0 { Sign::Positive } else { Sign::Negative } } else { Sign::Zero }
     }
 
-    /// How many decisions so far rested on [`Self::estimate`] rather than a proof.
+    /// How many decisions so far rested on an estimate (see `estimate`) rather than a proof.
     pub fn estimated(&self) -> usize {
         self.estimated.get()
     }

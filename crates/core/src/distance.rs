@@ -37,10 +37,12 @@ pub const DEFAULT_MAX_BOXES: usize = 100_000;
 pub struct Arc {
     segments: Vec<Segment>,
     starts: Vec<f64>,
+    /// The component's total arc length in λ (scene units).
     pub total: f64,
 }
 
 impl Arc {
+    /// Component `c` of `space` as one arc, segment after segment.
     pub fn new(space: &CayleySpace<f64>, c: &Component) -> Arc {
         let segments = component_segments(space, c);
         let mut starts = Vec::with_capacity(segments.len());
@@ -108,12 +110,15 @@ pub struct Certificate {
     pub upper: f64,
     /// (upper − lower) / upper (0 when upper is 0, 1 when it is infinite).
     pub gap: f64,
+    /// The relative gap that was asked for.
     pub requested_gap: f64,
+    /// Why the search stopped.
     pub outcome: Outcome,
     /// The gap was reached and every interval end was verified.
     pub certified: bool,
     /// Boxes (pairs of pieces of the two components) evaluated.
     pub boxes: usize,
+    /// The box budget the search had.
     pub max_boxes: usize,
     /// Pairs of interval ends compared as candidates.
     pub end_pairs: usize,
@@ -128,7 +133,9 @@ pub struct Certificate {
 pub struct ClosestPair {
     /// Cayley distance of the pair as computed in f64.
     pub distance: f64,
+    /// The realization in the first component.
     pub a: Realization,
+    /// The realization in the second component.
     pub b: Realization,
     /// The components are mirror images (distance 0, but different motions).
     pub mirror: bool,
@@ -137,6 +144,7 @@ pub struct ClosestPair {
     /// realizations with the same Cayley vector (possible when the vector is
     /// short; THEORY.md §5 only promises one-to-one within a component).
     pub crossing: bool,
+    /// The proven bounds and how the search ended.
     pub certificate: Certificate,
 }
 

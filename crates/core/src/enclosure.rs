@@ -43,6 +43,7 @@ use crate::tolerance;
 pub struct Half {
     /// Index of the segment in the component's list.
     pub segment: usize,
+    /// The segment's realization type.
     pub bits: Vec<bool>,
     /// The end's λ as the analysis computed it.
     pub end: f64,

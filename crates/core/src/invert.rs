@@ -60,8 +60,11 @@ fn side_from_angle<T: Real>(a: T, b: T, one_minus_cos: T) -> T {
 
 /// Candidate λ values for "step k flat with d_k = t".
 pub struct Inverter<'a, T: Real> {
+    /// The construction whose steps are inverted.
     pub con: &'a Construction<T>,
+    /// Its decomposition (the clusters of each step).
     pub dec: &'a Decomposition,
+    /// The four-cycle test's carriers, which the inversion follows.
     pub cx: &'a Complexity,
 }
 

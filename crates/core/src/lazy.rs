@@ -1,10 +1,10 @@
 //! Lazy analysis: the connected component through one realization, found by
 //! walking its events (THEORY.md §4) and computing only the types the walk
 //! visits, never the 2^n types of the exhaustive sweep in
-//! [`crate::cayley_space`].
+//! [`crate::cayley_space`](mod@crate::cayley_space).
 //!
 //! From a realization (τ, λ0) the interval of τ around λ0 is grown both ways
-//! by [`Walker::next_end`]: the first λ at which some step's slack reaches
+//! by `Walker::next_end`: the first λ at which some step's slack reaches
 //! zero. There the flat step's bit flips (the flip rule of
 //! [`crate::motion::components`]) and the new type's interval is grown the
 //! other way from the shared endpoint, until the walk is back at its start.
@@ -22,7 +22,7 @@
 //! step is only examined where the steps before it close.
 //!
 //! Guarantee: the numeric method's (see `numeric_roots` in
-//! [`crate::cayley_space`]): every end is found unless a gap between samples
+//! [`crate::cayley_space`](mod@crate::cayley_space)): every end is found unless a gap between samples
 //! holds two inflections of one slack; a near-double root is a tangency and is
 //! noted. Cost: O(samples · n) per interval visited, plus O(k) per Newton
 //! iteration on step k; nothing is exponential in the depth.

@@ -11,7 +11,9 @@ use crate::realize::{Construction, Event, Point2, Realization, RealizationType, 
 /// Which end of an interval.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Side {
+    /// The lower end (smaller λ).
     Lower,
+    /// The upper end (larger λ).
     Upper,
 }
 
@@ -28,10 +30,13 @@ impl Side {
 /// traversal order, each walked upward (`forward`) or downward.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Component {
+    /// Indices of its oriented intervals, in traversal order.
     pub intervals: Vec<usize>,
+    /// Per interval: walked upward in λ (`true`) or downward.
     pub forward: Vec<bool>,
     /// Whether the walk came back to its start (always, in a generic scene).
     pub closed: bool,
+    /// The smallest and largest λ it reaches.
     pub lambda_range: [f64; 2],
 }
 
@@ -39,7 +44,9 @@ pub struct Component {
 /// none (a dead end): only in non-generic scenes.
 #[derive(Clone, Debug, PartialEq)]
 pub struct BranchPoint {
+    /// The λ of the endpoint.
     pub lambda: f64,
+    /// The steps flat there.
     pub events: Vec<Event>,
     /// The interval the walk arrived from.
     pub from: usize,
@@ -47,11 +54,14 @@ pub struct BranchPoint {
     pub options: Vec<usize>,
 }
 
+/// The connected components of a Cayley space, and where the walk had no unique way on.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Components {
+    /// The components, in order of their first interval.
     pub list: Vec<Component>,
     /// For each oriented interval, its component.
     pub of_interval: Vec<usize>,
+    /// Endpoints with several ways on or none (non-generic scenes only).
     pub branch_points: Vec<BranchPoint>,
 }
 
@@ -186,11 +196,17 @@ pub fn explain_missing(space: &CayleySpace<f64>, r: &Realization, n_steps: usize
 /// interval endpoint (empty for an end inside the interval).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Segment {
+    /// Index of the oriented interval.
     pub interval: usize,
+    /// Its realization type.
     pub ty: RealizationType,
+    /// λ where the stretch starts.
     pub from: f64,
+    /// λ where it ends (below `from` when walked downward).
     pub to: f64,
+    /// Steps flat at `from` (empty inside the interval).
     pub flat_from: Vec<usize>,
+    /// Steps flat at `to` (empty inside the interval).
     pub flat_to: Vec<usize>,
 }
 
@@ -284,7 +300,9 @@ pub fn arcs(
 /// One realization along a walk.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Sample {
+    /// The base length λ.
     pub lambda: f64,
+    /// The realization type.
     pub ty: RealizationType,
     /// Joint positions in the display frame.
     pub positions: Vec<Point2<f64>>,
@@ -304,6 +322,7 @@ pub struct Sample {
 /// budget stopped it, where it jumped, what it skipped, where it failed.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct WalkSummary {
+    /// Samples made.
     pub samples: usize,
     /// Stopped at the sample budget before the end of the walk.
     pub truncated: bool,
@@ -365,6 +384,7 @@ pub struct Stepper<'a> {
 }
 
 impl<'a> Stepper<'a> {
+    /// A walk over `segments` with joints moving at most `step` (scene units) per sample.
     pub fn new(con: &'a Construction<f64>, linkage: &'a Linkage, segments: Vec<Segment>, step: f64) -> Self {
         let lambda = segments.first().map_or(0.0, |s| s.from);
         let delta = step.max(f64::MIN_POSITIVE);
@@ -562,6 +582,7 @@ pub struct PathMeasure {
     pub cayley_length: f64,
     /// The longest distance any one joint travels (jumps not counted).
     pub max_joint_travel: f64,
+    /// What the walk met.
     pub walk: WalkSummary,
 }
 

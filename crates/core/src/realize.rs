@@ -52,6 +52,7 @@ fn unit<T: Real>(p: P2<T>) -> P2<T> {
 pub struct RealizationType(pub Vec<bool>);
 
 impl RealizationType {
+    /// Parse a string of `+` and `-`; `None` for any other character.
     pub fn parse(text: &str) -> Option<Self> {
         text.chars()
             .map(|c| match c {
@@ -94,7 +95,9 @@ impl fmt::Display for RealizationType {
 /// A realization named by type and base length.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Realization {
+    /// Its realization type.
     pub ty: RealizationType,
+    /// Its base length λ (scene units).
     pub lambda: f64,
 }
 
@@ -128,6 +131,7 @@ pub enum Kind {
 }
 
 impl Kind {
+    /// `stretched` or `folded`.
     pub fn name(self) -> &'static str {
         match self {
             Kind::Stretched => "stretched",
@@ -162,23 +166,31 @@ impl Kind {
 /// Step `step` is flat (`kind`) at an endpoint.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct Event {
+    /// The flat step (0-based).
     pub step: usize,
+    /// How it is flat.
     pub kind: Kind,
 }
 
 /// A cluster joint placed from a step's frame (p, q): `j = p + α(q−p) + β·perp(q−p)`.
 #[derive(Debug, Clone)]
 pub struct Member<T> {
+    /// The joint placed.
     pub joint: usize,
+    /// Its coordinate along q − p, in units of |q − p|.
     pub alpha: T,
+    /// Its coordinate along perp(q − p), in units of |q − p|.
     pub beta: T,
 }
 
 /// One step's fixed geometry.
 #[derive(Debug, Clone)]
 pub struct StepGeom<T> {
+    /// v_k: the joint the step places.
     pub vertex: usize,
+    /// u_k: the base joint on the first cluster.
     pub u: usize,
+    /// w_k: the base joint on the second cluster.
     pub w: usize,
     /// |u v| inside the cluster on u.
     pub r1: T,
@@ -186,14 +198,18 @@ pub struct StepGeom<T> {
     pub r2: T,
     /// Other joints of the cluster on u, placed from (u, v); likewise for w.
     pub members_u: Vec<Member<T>>,
+    /// Other joints of the cluster on w, placed from (w, v).
     pub members_w: Vec<Member<T>>,
 }
 
 /// The construction with every length computed in `T` from the scene's numbers.
 #[derive(Debug, Clone)]
 pub struct Construction<T> {
+    /// The number of joints.
     pub n_joints: usize,
+    /// The base non-edge f = (a, b).
     pub base: [usize; 2],
+    /// The construction steps, in order.
     pub steps: Vec<StepGeom<T>>,
     /// Scene scale (see [`crate::tolerance`]).
     pub scale: f64,
@@ -205,9 +221,17 @@ pub struct Construction<T> {
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Unrealizable {
     /// Step `step`'s triangle cannot close: slack (negative) in scene units.
-    Infeasible { step: usize, slack: f64 },
+    Infeasible {
+        /// The step (0-based).
+        step: usize,
+        /// Its slack (negative), scene units.
+        slack: f64,
+    },
     /// Step `step`'s base joints coincide: its vertex is undetermined.
-    Degenerate { step: usize },
+    Degenerate {
+        /// The step (0-based).
+        step: usize,
+    },
 }
 
 /// The stated lengths cannot form a cluster (a sketch whose numbers contradict).
@@ -282,6 +306,7 @@ fn shape_pos<T: Real>(shape: &Shape<T>, joint: usize) -> P2<T> {
 
 /// Converts one construction's numbers into another scalar type.
 impl Construction<f64> {
+    /// The same construction with its numbers rounded to `U`.
     pub fn convert<U: Real>(&self) -> Construction<U> {
         let c = |x: f64| U::from_f64(x);
         let members = |list: &Vec<Member<f64>>| {
@@ -522,11 +547,15 @@ impl<T: Real> Construction<T> {
 /// The drawn realization's (λ, type), and the steps that are flat in the drawing.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Drawn {
+    /// The drawn base length λ.
     pub lambda: f64,
+    /// The drawn realization type.
     pub ty: RealizationType,
+    /// Steps whose triangle is flat in the drawing (their bit is then a choice).
     pub flat_steps: Vec<usize>,
 }
 
+/// The drawn realization's (λ, type), read from the drawing.
 pub fn drawn_realization(linkage: &Linkage, dec: &Decomposition) -> Drawn {
     let p = &linkage.drawn;
     let lambda = crate::linkage::dist(p[dec.base[0]], p[dec.base[1]]);

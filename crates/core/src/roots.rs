@@ -103,7 +103,10 @@ pub enum Extremum {
     Above,
     /// Within `touch` of zero: a tangent (double) root. Unless `exact` (the
     /// value is zero), two roots and none cannot be told apart there.
-    Touch { exact: bool },
+    Touch {
+        /// The value is exactly zero.
+        exact: bool,
+    },
     /// Below `-touch`, or not a number.
     Below,
 }

@@ -25,10 +25,14 @@ pub fn tangent_slope(unit_roundoff: f64) -> f64 {
     1e-10 * (unit_roundoff / (f64::EPSILON / 2.0)).sqrt()
 }
 
-/// A candidate λ is accepted as a root of `d_k(λ) = t` when the Newton
-/// correction |g/g'| is below this (× scale), or |g| itself is below
-/// [`ROOT_VALUE`] (× scale), which covers tangent roots where g' vanishes.
+/// The lazy walk halves a gap between its samples down to this width
+/// (× scale), and accepts an end once it lies within this of the sample
+/// before it: far below any feature a user draws, far above f64 resolution.
 pub const ROOT_STEP: f64 = 1e-9;
+
+/// An extremum of a slack (or of g = d_k − t) within this (× scale) of zero
+/// is a touch: a tangent (double) root, noted as such (`roots::Extremum`); two
+/// roots that close together are not separated at f64 precision.
 pub const ROOT_VALUE: f64 = 1e-12;
 
 /// The lazy walk recognises an interval end it computed before (same type,
@@ -96,6 +100,7 @@ pub const SVG_POINT_GAP_FRACTION: f64 = 5e-4;
 /// The terminal UI keeps at most this many numbers (positions and Cayley
 /// vectors) of the current motion, and at most [`TUI_MAX_SAMPLES`] samples.
 pub const TUI_MAX_NUMBERS: usize = 4_000_000;
+/// See [`TUI_MAX_NUMBERS`]: the terminal UI's sample cap per motion.
 pub const TUI_MAX_SAMPLES: usize = 20_000;
 
 /// A walk that meets more than this many jumps in one segment (joints moving
@@ -114,6 +119,7 @@ pub const DRAWN_RESOLUTION_ULPS: f64 = 8.0;
 /// this many prefixes of types are tried, and at most
 /// [`LAZY_MAX_NEW_COMPONENTS`] components walked, per request.
 pub const LAZY_SEED_PROBES: usize = 1 << 16;
+/// See [`LAZY_SEED_PROBES`]: at most this many components walked per request.
 pub const LAZY_MAX_NEW_COMPONENTS: usize = 256;
 
 /// Bisection and Newton iterations of the root finder stop after this many
