@@ -140,7 +140,7 @@ fn median_us<R>(repeat: usize, mut f: impl FnMut() -> R) -> (f64, R) {
 /// Match each reference interval with the method's interval of the same type
 /// that overlaps it with the smallest endpoint error.
 pub fn compare(method: &[Span], reference: &[Span], scale: f64) -> (f64, usize, usize) {
-    let slack = 1e-6 * scale;
+    let slack = crate::tolerance::BENCH_MATCH_SLACK * scale;
     let mut used = vec![false; method.len()];
     let (mut worst, mut missed) = (0.0f64, 0usize);
     for (ty, lo, hi) in reference {
@@ -172,7 +172,6 @@ pub fn classic_space(con: &Construction<f64>, s: &Solved) -> Option<Vec<Span>> {
     if !s.complexity.low {
         return None;
     }
-    const ABSOLUTE_TOL: f64 = 1e-4;
     let inv = Inverter { con, dec: &s.dec, cx: &s.complexity };
     let mut cands: Vec<f64> = Vec::new();
     for (k, st) in con.steps.iter().enumerate() {
@@ -185,7 +184,8 @@ pub fn classic_space(con: &Construction<f64>, s: &Solved) -> Option<Vec<Span>> {
     if n > 16 {
         return None;
     }
-    let realizable = |l: f64, ty: &[bool]| con.realize_with_tolerance(l, ty, ABSOLUTE_TOL).is_ok();
+    let realizable =
+        |l: f64, ty: &[bool]| con.realize_with_tolerance(l, ty, crate::tolerance::CLASSIC_ABSOLUTE_TOL).is_ok();
     let mut out = Vec::new();
     for code in 0..(1usize << n) {
         let bits: Vec<bool> = (0..n).map(|k| code & (1 << (n - 1 - k)) == 0).collect();

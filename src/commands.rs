@@ -10,9 +10,9 @@ use serde::Serialize;
 use crate::analysis::{Analysis, Solved};
 use crate::distance::{Certificate, ClosestOptions, ClosestPair, Outcome, closest_pair};
 use crate::motion::{
-    Realization, Segment, Stepper, WalkSummary, arcs, bounding_diagonal, component_segments, explain_missing, locate,
-    measure,
+    Segment, Stepper, WalkSummary, arcs, bounding_diagonal, component_segments, explain_missing, locate, measure,
 };
+use crate::realize::{Point2, Realization};
 use crate::report::fmt_num;
 use crate::tolerance;
 
@@ -28,8 +28,9 @@ pub struct Walk {
 /// (the drawing itself when it has none). Falls back to the scene scale for a
 /// drawing of one point.
 pub fn drawing_extent(a: &Analysis) -> f64 {
-    let drawn = a.outcome.as_ref().ok().and_then(|s| s.drawn_positions.as_deref()).unwrap_or(&a.linkage.drawn);
-    let d = bounding_diagonal(drawn);
+    let drawn =
+        a.outcome.as_ref().ok().and_then(|s| s.drawn_positions.clone()).unwrap_or_else(|| a.linkage.drawn_points());
+    let d = bounding_diagonal(&drawn);
     if d > 0.0 && d.is_finite() { d } else { a.linkage.scale }
 }
 
@@ -651,7 +652,7 @@ pub fn trace_csv(
             let _ = write!(row, ",{},{}", p[0], p[1]);
         }
         if cayley {
-            for d in crate::distance::cayley_vector(&sample.positions, &s.complexity.ccv) {
+            for d in crate::cayley_vector::cayley_vector(&sample.positions, &s.complexity.ccv) {
                 let _ = write!(row, ",{d}");
             }
         }
@@ -677,8 +678,8 @@ pub fn svg(a: &Analysis, s: &Solved, segments: Vec<Segment>, joints: &[usize], w
     // Per joint, runs of points between jumps; a point closer than `gap` to
     // the last one kept is not drawn (it would not show), unless it ends a run.
     let gap = tolerance::SVG_POINT_GAP_FRACTION * drawing_extent(a);
-    let mut runs: Vec<Vec<Vec<[f64; 2]>>> = vec![vec![Vec::new()]; joints.len()];
-    let mut pending: Vec<Option<[f64; 2]>> = vec![None; joints.len()];
+    let mut runs: Vec<Vec<Vec<Point2<f64>>>> = vec![vec![Vec::new()]; joints.len()];
+    let mut pending: Vec<Option<Point2<f64>>> = vec![None; joints.len()];
     let mut stepper = Stepper::new(&s.construction, &a.linkage, segments, walk.step).with_budget(walk.max_samples);
     let (mut kept, mut points_cut) = (0usize, false);
     for sample in stepper.by_ref() {
@@ -709,7 +710,7 @@ pub fn svg(a: &Analysis, s: &Solved, segments: Vec<Segment>, joints: &[usize], w
             run.extend(p);
         }
     }
-    let pose = s.drawn_positions.clone().unwrap_or_else(|| a.linkage.drawn.clone());
+    let pose = s.drawn_positions.clone().unwrap_or_else(|| a.linkage.drawn_points());
     let (mut x0, mut y0, mut x1, mut y1) = (f64::INFINITY, f64::INFINITY, f64::NEG_INFINITY, f64::NEG_INFINITY);
     for p in pose.iter().chain(runs.iter().flatten().flatten()) {
         x0 = x0.min(p[0]);

@@ -167,7 +167,7 @@ enum Command {
         #[arg(long)]
         components: String,
         /// Relative gap to certify the distance to (proven lower bound vs. the pair found).
-        #[arg(long, default_value_t = caymos::distance::DEFAULT_GAP)]
+        #[arg(long, default_value_t = caymos::tolerance::DEFAULT_GAP)]
         gap: f64,
         #[arg(long, value_enum, default_value = "text")]
         format: Format,

@@ -201,7 +201,7 @@ impl Report {
                     .as_ref()
                     .map(|f| SketchReport { max_length_change: f.max_length_change, max_joint_move: f.max_joint_move });
                 r.cayley_space = s.union.clone();
-                let event = |e: &crate::cayley_space::Event| EventReport {
+                let event = |e: &crate::realize::Event| EventReport {
                     step: e.step,
                     vertex: name(s.dec.steps[e.step].vertex),
                     kind: e.kind.name(),
@@ -244,7 +244,7 @@ impl Report {
                     })
                     .collect();
                 r.no_realization = crate::commands::no_realization(a, s);
-                r.mirror_pairs = crate::distance::mirror_images_exist(&s.construction, &s.dec);
+                r.mirror_pairs = crate::cayley_vector::mirror_images_exist(&s.construction, &s.dec);
                 r.accuracy = s.accuracy.as_ref().map(|acc| AccuracyReport {
                     reference: "double-double (106-bit)",
                     max_endpoint_error_estimate: acc.max_endpoint_error,

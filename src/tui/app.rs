@@ -6,10 +6,10 @@
 use nalgebra::{Rotation3, Vector3};
 
 use crate::analysis::{Analysis, Solved};
+use crate::cayley_vector::{cayley_vector, mirror_images_exist};
 use crate::commands::{self, PathReport, Walk};
-use crate::distance::{cayley_vector, mirror_images_exist};
-use crate::motion::{Realization, Segment, Stepper, arcs, component_segments, locate, realization_at};
-use crate::realize::{P2, RealizationType};
+use crate::motion::{Segment, Stepper, arcs, component_segments, locate, realization_at};
+use crate::realize::{Point2, Realization, RealizationType};
 use crate::report::fmt_num;
 use crate::tolerance;
 
@@ -48,7 +48,7 @@ pub struct Cursor {
     pub seg: usize,
     pub lambda: f64,
     /// The current realization, display frame.
-    pub positions: Vec<P2<f64>>,
+    pub positions: Vec<Point2<f64>>,
     /// Its complete Cayley vector (kept with `positions`).
     pub cayley: Vec<f64>,
     /// Bumped whenever `segments` change, so the samples know they are stale.
@@ -126,7 +126,7 @@ impl Camera {
 #[derive(Clone, Debug, Default)]
 pub struct MotionSamples {
     pub generation: u64,
-    pub positions: Vec<Vec<P2<f64>>>,
+    pub positions: Vec<Vec<Point2<f64>>>,
     pub cayley: Vec<Vec<f64>>,
     pub types: Vec<RealizationType>,
     /// Whether each sample is reached by a jump (drawn lines break there).
@@ -350,7 +350,7 @@ impl Model {
             *last = true; // the last joint is usually the coupler point or the foot
         }
         // Until a realization is computed: the drawn one (never empty).
-        let positions = solved.drawn_positions.clone().unwrap_or_else(|| analysis.linkage.drawn.clone());
+        let positions = solved.drawn_positions.clone().unwrap_or_else(|| analysis.linkage.drawn_points());
         let ccv_len = solved.complexity.ccv.len();
         let cayley = cayley_vector(&positions, &solved.complexity.ccv);
         let axes = [0, 1.min(ccv_len.saturating_sub(1)), 2.min(ccv_len.saturating_sub(1))];
@@ -632,7 +632,9 @@ impl Model {
                 self.camera.next_axes(n);
             }
             Action::StepBigger => self.pace.step = (step * 2.0).min(self.pace.extent),
-            Action::StepSmaller => self.pace.step = (step / 2.0).max(self.pace.extent * 1e-6),
+            Action::StepSmaller => {
+                self.pace.step = (step / 2.0).max(self.pace.extent * tolerance::TUI_MIN_STEP_FRACTION)
+            }
             Action::Reset => self.reset(),
             Action::GoTo | Action::Help | Action::Quit => {}
         }
@@ -701,7 +703,8 @@ impl Model {
         let candidates: Vec<usize> = (0..c.segments.len())
             .filter(|&i| {
                 let sg = &c.segments[i];
-                lambda >= sg.from.min(sg.to) - 1e-12 * scale && lambda <= sg.from.max(sg.to) + 1e-12 * scale
+                lambda >= sg.from.min(sg.to) - tolerance::TUI_GOTO_MARGIN * scale
+                    && lambda <= sg.from.max(sg.to) + tolerance::TUI_GOTO_MARGIN * scale
             })
             .collect();
         let pick = candidates.iter().copied().find(|&i| &c.segments[i].ty == here).or(candidates.first().copied());
@@ -759,7 +762,7 @@ impl Model {
     fn component_bounds(&self) -> [f64; 4] {
         let (a, s) = (&self.analysis, self.solved());
         let mut b = [f64::INFINITY, f64::INFINITY, f64::NEG_INFINITY, f64::NEG_INFINITY];
-        let mut add = |p: &P2<f64>| {
+        let mut add = |p: &Point2<f64>| {
             b[0] = b[0].min(p[0]);
             b[1] = b[1].min(p[1]);
             b[2] = b[2].max(p[0]);
@@ -799,7 +802,7 @@ fn trace_paths(samples: &MotionSamples, traces: &Traces, bounds: [f64; 4]) -> Ve
         samples
             .positions
             .iter()
-            .map(move |p| unit(p[j]))
+            .map(move |p| unit(p[j].into()))
             .filter(|p| p[0].is_finite() && p[1].is_finite())
             .map(|p| (p[0], p[1]))
     };

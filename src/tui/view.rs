@@ -210,7 +210,7 @@ fn draw_linkage(frame: &mut Frame, m: &Model, area: Rect, theme: Theme) {
     let (xb, yb) = equal_bounds([x0, y0, x1, y1], area);
     let traces = &m.picture.traces;
     let l = &m.analysis().linkage;
-    let pos: Vec<[f64; 2]> = m.cursor.positions.iter().map(|&p| unit(p)).collect();
+    let pos: Vec<[f64; 2]> = m.cursor.positions.iter().map(|&p| unit(p.into())).collect();
     let ccv = &m.solved().complexity.ccv;
     let title = Line::from(vec![
         Span::styled(format!(" {} ", m.analysis().scene.name), theme.title()),

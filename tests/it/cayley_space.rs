@@ -4,11 +4,11 @@
 use crate::helpers::*;
 use caymos::analysis::{Analysis, Solved, analyse, reference_accuracy};
 use caymos::bundled;
-use caymos::cayley_space::{Kind, Method, Note, cayley_space};
+use caymos::cayley_space::{Method, Note, cayley_space};
 use caymos::generate::{bd_distance, four_bar, four_bar_with_dyad, random_linkage, tangency};
 use caymos::linkage::Linkage;
 use caymos::real::Jet;
-use caymos::realize::{Construction, slack};
+use caymos::realize::{Construction, Kind, slack};
 use proptest::prelude::*;
 
 /// f64 endpoints within 1e-12 × scale of the double-double reference, same structure.

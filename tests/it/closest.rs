@@ -4,12 +4,14 @@
 use crate::helpers::*;
 use caymos::analysis::{Analysis, Solved, analyse};
 use caymos::bundled;
+use caymos::cayley_vector::{cayley_vector, euclid};
 use caymos::commands;
-use caymos::distance::{ClosestOptions, ClosestPair, Outcome, cayley_vector, closest_pair, euclid};
+use caymos::distance::{ClosestOptions, ClosestPair, Outcome, closest_pair};
 use caymos::enclosure::{enclose, halves};
 use caymos::generate::random_linkage;
 use caymos::interval::Interval;
-use caymos::motion::{Component, Realization, Segment, component_segments, realization_at};
+use caymos::motion::{Component, Segment, component_segments, realization_at};
+use caymos::realize::Realization;
 use proptest::prelude::*;
 
 /// The Cayley vector at λ on a segment (its ends exactly flat).

@@ -5,8 +5,9 @@ use caymos::bundled;
 use caymos::cayley_space::CayleySpace;
 use caymos::generate::{chain, hard_cases, random_linkage, strandbeest, to_toml};
 use caymos::lazy::{LazyOptions, component_through};
-use caymos::motion::{Component, Realization, components};
+use caymos::motion::{Component, components};
 use caymos::real::Jet;
+use caymos::realize::Realization;
 use caymos::scene::Scene;
 use proptest::prelude::*;
 
@@ -115,7 +116,7 @@ fn analyse_goes_lazy_above_2_pow_16_types_and_says_so() {
             for l in [iv.lower.lambda, 0.5 * (iv.lower.lambda + iv.upper.lambda), iv.upper.lambda] {
                 let pos =
                     s.construction.realize(l, &iv.ty).unwrap_or_else(|e| panic!("{name}: {} at {l}: {e:?}", iv.ty));
-                let r = caymos::realize::bar_residual(&a.linkage, &pos);
+                let r = caymos::realize::bar_residual(&a.linkage, &caymos::realize::points(&pos));
                 assert!(r <= 1e-9 * a.linkage.scale, "{name}: residual {r}");
             }
         }

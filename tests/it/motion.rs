@@ -7,8 +7,8 @@ use caymos::bundled;
 use caymos::commands;
 use caymos::distance::Arc;
 use caymos::generate::{four_bar, random_linkage};
-use caymos::motion::{Realization, Stepper, arcs, component_segments};
-use caymos::realize::bar_residual;
+use caymos::motion::{Stepper, arcs, component_segments};
+use caymos::realize::{Realization, bar_residual};
 use proptest::prelude::*;
 
 /// A walk with the default sample budget.

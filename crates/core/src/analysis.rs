@@ -9,9 +9,11 @@ use crate::complexity::{Complexity, four_cycle_test};
 use crate::decompose::{Decomposition, Outside, decompose};
 use crate::lazy::{LazyOptions, component_through};
 use crate::linkage::Linkage;
-use crate::motion::{Components, Realization, components, locate};
+use crate::motion::{Components, components, locate};
 use crate::real::{Dd, Jet, Real};
-use crate::realize::{Construction, Drawn, P2, Unrealizable, bar_residual, drawn_realization, to_display};
+use crate::realize::{
+    Construction, Drawn, Point2, Realization, Unrealizable, bar_residual, drawn_realization, to_display,
+};
 use crate::scene::{Scene, SceneError};
 
 /// Wall-clock time of each phase, in microseconds (for the report; never asserted).
@@ -81,23 +83,31 @@ pub enum Scope {
 /// A scene recognised as 1-dof tree-decomposable.
 #[derive(Debug, Clone)]
 pub struct Solved {
+    /// The base and the construction steps.
     pub dec: Decomposition,
+    /// The four-cycle test: low Cayley complexity, the complete Cayley vector, the carriers.
     pub complexity: Complexity,
+    /// The construction in f64: every step's lengths and member placements.
     pub construction: Construction<f64>,
     /// The construction in proven (ball) arithmetic, for structural decisions.
     pub certifier: Certifier,
+    /// The drawn realization's (λ, type) and the steps flat in the drawing.
     pub drawn: Drawn,
     /// The drawn realization in the display frame (the drawing itself unless a sketch).
-    pub drawn_positions: Option<Vec<P2<f64>>>,
+    pub drawn_positions: Option<Vec<Point2<f64>>>,
+    /// How far the stated lengths move the drawing (`None` when no length is stated).
     pub sketch: Option<SketchFit>,
+    /// The oriented Cayley configuration space (every type, or the computed components).
     pub space: CayleySpace<f64>,
     /// The non-oriented Cayley configuration space.
     pub union: Vec<[f64; 2]>,
     /// Against the double-double reference (`None` when skipped for size).
     pub accuracy: Option<Accuracy>,
+    /// The connected components: cycles of oriented intervals of `space`.
     pub components: Components,
     /// The oriented interval and component holding the drawn realization.
     pub drawn_interval: Option<usize>,
+    /// The component holding the drawn realization (`None` when it has none).
     pub drawn_component: Option<usize>,
     /// Only the components through realizations asked for were computed
     /// (`space` then holds their intervals, each component's sorted by type,
@@ -253,19 +263,27 @@ pub fn nearest_attainable(space: &CayleySpace<f64>, ty: &crate::realize::Realiza
         .min_by(|a, b| (a - lambda).abs().total_cmp(&(b - lambda).abs()))
 }
 
+/// A scene analysed: its linkage and either the solved analysis or why it is outside the class.
 #[derive(Debug, Clone)]
 pub struct Analysis {
+    /// The scene as parsed.
     pub scene: Scene,
+    /// The linkage the scene states.
     pub linkage: Linkage,
+    /// The analysis, or why the linkage is outside the handled class.
     pub outcome: Result<Solved, Outside>,
+    /// Things the user should know about the input, as sentences.
     pub warnings: Vec<String>,
+    /// Time spent per phase.
     pub timings: Timings,
 }
 
 /// Where a requested base came from, for the error message.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum BaseSource {
+    /// Named in the scene file (`base = [...]`).
     Scene,
+    /// Given on the command line (`--base`).
     CommandLine,
 }
 

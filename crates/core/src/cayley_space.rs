@@ -7,7 +7,7 @@
 //! - **exact** (LCC): the closed-form candidates of [`crate::invert`], each
 //!   checked against this prefix;
 //! - **numeric** (any linkage, and the only way for non-LCC steps): a
-//!   bracketing search described at [`numeric_roots`].
+//!   bracketing search described at `Sweep::numeric_roots`.
 //!
 //! Each root is classified by the sign of the step's slack on either side,
 //! read from its first derivative (or second, at a tangency) computed
@@ -18,79 +18,24 @@
 //!
 //! Generic over the scalar type so that a double-double run is the reference.
 
-use std::cmp::Ordering;
-
 use crate::certify::{At as Place, Certifier, Closes, Sign};
 use crate::complexity::Complexity;
 use crate::decompose::Decomposition;
 use crate::invert::Inverter;
 use crate::real::{Jet, Real};
-use crate::realize::{Construction, RealizationType};
+use crate::realize::{Construction, Event, Kind, RealizationType};
+use crate::roots::{Endpoint, EndpointIds, Extremum, base_distance_jet, bisect, cmp, cosine_sample, side_signs, sign};
 use crate::tolerance;
-
-/// How a step is flat at an endpoint.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub enum Kind {
-    /// d = r1 + r2
-    Stretched,
-    /// d = |r1 − r2|
-    Folded,
-}
-
-impl Kind {
-    pub fn name(self) -> &'static str {
-        match self {
-            Kind::Stretched => "stretched",
-            Kind::Folded => "folded",
-        }
-    }
-
-    /// The base distance at which a step with sides r1, r2 is flat this way.
-    pub fn target<T: Real>(self, r1: T, r2: T) -> T {
-        match self {
-            Kind::Stretched => r1 + r2,
-            Kind::Folded => (r1 - r2).abs(),
-        }
-    }
-
-    /// The step's slack for this kind at base distance `d` (a jet, so with
-    /// its slope and curvature): positive where this side of the triangle closes.
-    pub fn slack<T: Real>(self, r1: T, r2: T, d: Jet<T>) -> Jet<T> {
-        self.slack_value(Jet::constant(r1), Jet::constant(r2), d)
-    }
-
-    /// [`Self::slack`] in any arithmetic.
-    pub fn slack_value<T: Real>(self, r1: T, r2: T, d: T) -> T {
-        let t = self.target(r1, r2);
-        match self {
-            Kind::Stretched => t - d,
-            Kind::Folded => d - t,
-        }
-    }
-}
-
-/// Step `step` is flat (`kind`) at an endpoint.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub struct Event {
-    pub step: usize,
-    pub kind: Kind,
-}
-
-/// An interval end: its λ, the flat steps there (one in a generic scene),
-/// and an id shared by every type whose interval ends at this same root.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Endpoint<T> {
-    pub lambda: T,
-    pub events: Vec<Event>,
-    pub id: usize,
-}
 
 /// A maximal closed λ-interval on which one realization type exists
 /// (`lower == upper` for an isolated point).
 #[derive(Clone, Debug, PartialEq)]
 pub struct OrientedInterval<T> {
+    /// The realization type realizable on the interval.
     pub ty: RealizationType,
+    /// The lower end (smaller λ).
     pub lower: Endpoint<T>,
+    /// The upper end (larger λ; the same λ for an isolated point).
     pub upper: Endpoint<T>,
 }
 
@@ -99,18 +44,53 @@ pub struct OrientedInterval<T> {
 #[derive(Clone, Debug, PartialEq)]
 pub enum Note {
     /// Two or more steps flat at the same λ (a possible branch point).
-    Coincident { lambda: f64, events: Vec<Event> },
+    Coincident {
+        /// Where (base length).
+        lambda: f64,
+        /// The steps flat there.
+        events: Vec<Event>,
+    },
     /// The slack of a step touches zero without changing sign: an isolated
     /// realizable point (`inside == false`) or a touch inside an interval.
-    Tangency { lambda: f64, event: Event, inside: bool },
+    Tangency {
+        /// Where (base length).
+        lambda: f64,
+        /// The step whose slack touches zero.
+        event: Event,
+        /// A touch inside an interval (`true`) or an isolated point.
+        inside: bool,
+    },
     /// Roots or signs that could not be separated at working precision.
-    Unresolved { lambda: f64, step: usize, detail: String },
+    Unresolved {
+        /// Where (base length).
+        lambda: f64,
+        /// The step concerned.
+        step: usize,
+        /// What could not be separated, as a sentence.
+        detail: String,
+    },
     /// The base length reaches zero (the base joints coincide).
-    ZeroBase { step: usize },
+    ZeroBase {
+        /// The step flat at λ = 0.
+        step: usize,
+    },
     /// Step `step`'s base joints coincide all along a piece of λ: its vertex
     /// is free to turn (an extra degree of freedom, as in a folded rhombus).
     /// Those types have no realization there.
-    Degenerate { lambda: [f64; 2], step: usize },
+    Degenerate {
+        /// The piece of λ, [from, to].
+        lambda: [f64; 2],
+        /// The degenerate step.
+        step: usize,
+    },
+}
+
+impl Note {
+    /// Two roots or none at λ for step `step`, not separable at the working precision.
+    pub fn near_double_root(lambda: f64, step: usize) -> Note {
+        let detail = "a near-double root: two endpoints or none, not separable at this precision".into();
+        Note::Unresolved { lambda, step, detail }
+    }
 }
 
 /// How endpoints were found.
@@ -121,14 +101,22 @@ pub enum Method {
     /// The numeric root search for every step, with this many samples per
     /// piece; roots are bisected until their bracket is below `tol` × scale
     /// (0: to full precision).
-    Numeric { samples: usize, tol: f64 },
+    Numeric {
+        /// Samples per piece of λ (at least 4).
+        samples: usize,
+        /// Bisection stops at a bracket this wide (× scale); 0: full precision.
+        tol: f64,
+    },
 }
 
+/// The oriented Cayley configuration space: the intervals of every type computed, and what was met on the way.
 #[derive(Clone, Debug)]
 pub struct CayleySpace<T> {
     /// Sorted by type, then λ.
     pub intervals: Vec<OrientedInterval<T>>,
+    /// Non-generic events and undecided places met while computing.
     pub notes: Vec<Note>,
+    /// How the endpoints were found.
     pub method: Method,
     /// Steps whose endpoints came from the numeric search.
     pub numeric_steps: Vec<usize>,
@@ -158,20 +146,6 @@ struct Root<T> {
     right: i8,
 }
 
-fn sign<T: Real>(x: T) -> i8 {
-    if x > T::zero() {
-        1
-    } else if x < T::zero() {
-        -1
-    } else {
-        0
-    }
-}
-
-fn cmp<T: Real>(a: &T, b: &T) -> Ordering {
-    a.partial_cmp(b).unwrap_or(Ordering::Equal)
-}
-
 struct Sweep<'a, T: Real> {
     con: &'a Construction<T>,
     cert: &'a Certifier,
@@ -181,7 +155,7 @@ struct Sweep<'a, T: Real> {
     samples: usize,
     /// Numeric roots are bisected down to a bracket this wide (scene units).
     root_tol: T,
-    next_id: usize,
+    ids: EndpointIds,
     notes: Vec<Note>,
     out: Vec<OrientedInterval<T>>,
 }
@@ -217,15 +191,25 @@ pub fn cayley_space<T: Real>(
         Method::Numeric { tol, .. } => T::from_f64(tol.max(0.0) * con.scale),
         Method::Exact => T::zero(),
     };
-    let mut sweep = Sweep { con, cert, jet, exact, samples, root_tol, next_id: 0, notes: Vec::new(), out: Vec::new() };
+    let mut sweep = Sweep {
+        con,
+        cert,
+        jet,
+        exact,
+        samples,
+        root_tol,
+        ids: EndpointIds::default(),
+        notes: Vec::new(),
+        out: Vec::new(),
+    };
     // Start from (0, sentinel): every root of the first step lies below the sentinel.
     let top = (0..n)
         .filter(|&k| con.on_base(k))
         .map(|k| con.steps[k].r1 + con.steps[k].r2)
         .fold(T::from_f64(f64::INFINITY), |a, b| if b < a { b } else { a });
     let top = top + top + T::from_f64(con.scale);
-    let lo = sweep.endpoint(T::zero(), Vec::new());
-    let hi = sweep.endpoint(top, Vec::new());
+    let lo = sweep.ids.make(T::zero(), Vec::new());
+    let hi = sweep.ids.make(top, Vec::new());
     let mut bits = Vec::with_capacity(n);
     sweep.descend(0, &mut bits, vec![Piece { lo, hi }]);
     let mut intervals = sweep.out;
@@ -236,11 +220,6 @@ pub fn cayley_space<T: Real>(
 }
 
 impl<T: Real> Sweep<'_, T> {
-    fn endpoint(&mut self, lambda: T, events: Vec<Event>) -> Endpoint<T> {
-        self.next_id += 1;
-        Endpoint { lambda, events, id: self.next_id }
-    }
-
     fn descend(&mut self, k: usize, bits: &mut Vec<bool>, pieces: Vec<Piece<T>>) {
         if k == self.con.steps.len() {
             for p in pieces {
@@ -261,9 +240,7 @@ impl<T: Real> Sweep<'_, T> {
 
     /// d_k at λ for the prefix `bits`, with its first and second derivative.
     fn distance(&self, k: usize, bits: &[bool], lambda: T) -> Option<Jet<T>> {
-        let pos = self.jet.realize_prefix(Jet::variable(lambda), bits, k).ok()?;
-        let d = self.jet.base_distance(&pos, k);
-        (d.v.to_f64().is_finite()).then_some(d)
+        base_distance_jet(&self.jet, bits, k, lambda)
     }
 
     /// Slack of step k as a jet (value, slope, curvature).
@@ -275,18 +252,6 @@ impl<T: Real> Sweep<'_, T> {
     fn target(&self, k: usize, kind: Kind) -> T {
         let s = &self.con.steps[k];
         kind.target(s.r1, s.r2)
-    }
-
-    /// Signs of the slack left and right of a root, from its slope, or from
-    /// its curvature at a tangency.
-    fn side_signs(&self, sl: Jet<T>) -> (i8, i8) {
-        let slope_tol = T::from_f64(tolerance::tangent_slope(T::UNIT_ROUNDOFF));
-        if sl.d.abs() > slope_tol {
-            (-sign(sl.d), sign(sl.d))
-        } else {
-            let c = sign(sl.s);
-            (c, c)
-        }
     }
 
     /// Proven signs of step k's slacks ([stretched, folded]) at a piece end.
@@ -310,7 +275,7 @@ impl<T: Real> Sweep<'_, T> {
             let at_ends = [(lo, At::Lo, ends[0][ki]), (hi, At::Hi, ends[1][ki])];
             // Where step k is proven flat at an end, a candidate a few ulps
             // inside is that same root computed another way, not a new one.
-            let ulps = |x: T| T::from_f64(8.0 * T::UNIT_ROUNDOFF) * x.abs();
+            let ulps = |x: T| T::from_f64(tolerance::SAME_ROOT_ULPS * T::UNIT_ROUNDOFF) * x.abs();
             let candidates: Vec<T> = candidates
                 .into_iter()
                 .filter(|&x| !at_ends.iter().any(|&(e, _, sign)| sign == Sign::Zero && (x - e).abs() <= ulps(e)))
@@ -327,7 +292,7 @@ impl<T: Real> Sweep<'_, T> {
                 if !(g.d.to_f64().is_finite() || at != At::Inside) {
                     continue;
                 }
-                let (left, right) = self.side_signs(self.slack(k, kind, d));
+                let (left, right) = side_signs(self.slack(k, kind, d));
                 roots.push(Root { lambda, kind, at, left, right });
             }
         }
@@ -406,7 +371,7 @@ impl<T: Real> Sweep<'_, T> {
                     self.with_coincident(piece.lo.clone(), &at_lo, k)
                 } else {
                     let r = inside[g - 1];
-                    self.endpoint(r.lambda, vec![event(&r)])
+                    self.ids.make(r.lambda, vec![event(&r)])
                 });
             }
             if g == n_gaps - 1 {
@@ -422,12 +387,12 @@ impl<T: Real> Sweep<'_, T> {
                     self.notes.push(Note::Tangency { lambda: r.lambda.to_f64(), event: event(&r), inside: true })
                 }
                 (true, false) => {
-                    let hi = self.endpoint(r.lambda, vec![event(&r)]);
+                    let hi = self.ids.make(r.lambda, vec![event(&r)]);
                     out.push(Piece { lo: start.take().expect("open run"), hi });
                 }
                 (false, false) => {
                     self.notes.push(Note::Tangency { lambda: r.lambda.to_f64(), event: event(&r), inside: false });
-                    let p = self.endpoint(r.lambda, vec![event(&r)]);
+                    let p = self.ids.make(r.lambda, vec![event(&r)]);
                     out.push(Piece { lo: p.clone(), hi: p });
                 }
                 (false, true) => {}
@@ -519,13 +484,7 @@ impl<T: Real> Sweep<'_, T> {
         let (lo, hi) = (piece.lo.lambda, piece.hi.lambda);
         let eval = |this: &Self, x: T| this.distance(k, bits, x).map(|d| d - Jet::constant(t));
         let n = self.samples;
-        let half = T::from_f64(0.5);
-        let xs: Vec<T> = (0..=n)
-            .map(|i| {
-                let c = (std::f64::consts::PI * i as f64 / n as f64).cos();
-                lo + (hi - lo) * half * T::from_f64(1.0 - c)
-            })
-            .collect();
+        let xs: Vec<T> = (0..=n).map(|i| cosine_sample(lo, hi, i, n)).collect();
         let mut roots = Vec::new();
         for w in xs.windows(2) {
             self.numeric_gap(k, w[0], w[1], &eval, 0, &mut roots);
@@ -542,7 +501,6 @@ impl<T: Real> Sweep<'_, T> {
         depth: u32,
         roots: &mut Vec<T>,
     ) {
-        const MAX_DEPTH: u32 = 40;
         let (Some(ga), Some(gb)) = (eval(self, a), eval(self, b)) else { return };
         let finite = |g: &Jet<T>| g.d.to_f64().is_finite() && g.s.to_f64().is_finite();
         let value_change = sign(ga.v) * sign(gb.v) < 0;
@@ -561,9 +519,9 @@ impl<T: Real> Sweep<'_, T> {
             // An inflection inside: split there, so each half has at most one extremum.
             let c = bisect(a, b, T::zero(), |x| eval(self, x).map(|g| sign(g.s)));
             // An inflection at an end (where a previous split put it) is that end's.
-            let margin = (b - a) * T::from_f64(1e-6);
+            let margin = (b - a) * T::from_f64(tolerance::INFLECTION_AT_END);
             if c - a > margin && b - c > margin {
-                if depth < MAX_DEPTH {
+                if depth < tolerance::ROOT_MAX_SPLITS {
                     self.numeric_gap(k, a, c, eval, depth + 1, roots);
                     self.numeric_gap(k, c, b, eval, depth + 1, roots);
                 } else {
@@ -583,15 +541,11 @@ impl<T: Real> Sweep<'_, T> {
         if sign(ga.d) * sign(gb.d) < 0 {
             let e = bisect(a, b, T::zero(), |x| eval(self, x).map(|g| sign(g.d)));
             let Some(ge) = eval(self, e) else { return };
-            let tol = T::from_f64(tolerance::ROOT_VALUE * self.con.scale);
-            if ge.v.abs() <= tol {
+            let touch = T::from_f64(tolerance::ROOT_VALUE * self.con.scale);
+            if let Extremum::Touch { exact } = Extremum::of(ge.v, touch) {
                 roots.push(e);
-                if sign(ge.v) != 0 {
-                    self.notes.push(Note::Unresolved {
-                        lambda: e.to_f64(),
-                        step: k,
-                        detail: "a near-double root: two endpoints or none, not separable at this precision".into(),
-                    });
+                if !exact {
+                    self.notes.push(Note::near_double_root(e.to_f64(), k));
                 }
             } else if sign(ge.v) * sign(ga.v) < 0 {
                 roots.push(bisect(a, e, self.root_tol, |x| eval(self, x).map(|g| sign(g.v))));
@@ -599,27 +553,6 @@ impl<T: Real> Sweep<'_, T> {
             }
         }
     }
-}
-
-/// Bisection on a sign function with different signs at `a` and `b`, until
-/// the bracket is no wider than `stop` (zero: to full precision).
-fn bisect<T: Real>(mut a: T, mut b: T, stop: T, f: impl Fn(T) -> Option<i8>) -> T {
-    let sa = f(a).unwrap_or(0);
-    for _ in 0..200 {
-        if b - a <= stop {
-            break;
-        }
-        let m = (a + b) / T::from_f64(2.0);
-        if !(m > a && m < b) {
-            break;
-        }
-        match f(m) {
-            Some(0) => return m,
-            Some(s) if s == sa => a = m,
-            _ => b = m,
-        }
-    }
-    (a + b) / T::from_f64(2.0)
 }
 
 /// The non-oriented Cayley space: the union of all oriented intervals.

@@ -24,20 +24,24 @@
 
 use std::cell::Cell;
 
-use crate::cayley_space::{Event, Kind};
 use crate::decompose::Decomposition;
 use crate::linkage::Linkage;
 use crate::real::{Ball, Dd, Jet, Real};
-use crate::realize::Construction;
+use crate::realize::{Construction, Event, Kind};
+use crate::tolerance;
 
 /// A proven sign; `Zero` when not even double-double separates the value
 /// from 0; `Undefined` when an earlier step cannot close there, so the
 /// question has no answer.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Sign {
+    /// Proven below zero.
     Negative,
+    /// Zero to double-double resolution (not separable from zero).
     Zero,
+    /// Proven above zero.
     Positive,
+    /// An earlier step cannot close there: the question has no answer.
     Undefined,
 }
 
@@ -61,9 +65,13 @@ pub struct Certifier {
 /// Whether a step closes at a point (see [`Certifier::closes`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Closes {
+    /// Both slacks proven positive: the step closes.
     Yes,
+    /// A slack proven negative: the step cannot close.
     No,
+    /// Equal sides and a zero base distance: the vertex turns freely.
     Degenerate,
+    /// Not decided at double-double resolution.
     Unknown,
 }
 
@@ -78,11 +86,14 @@ struct Value {
 /// point inside an interval, whose λ is then taken as exact).
 #[derive(Clone, Copy, Debug)]
 pub struct At<'a> {
+    /// The base length λ (scene units).
     pub lambda: f64,
+    /// The steps flat there (empty inside an interval, where λ is exact).
     pub events: &'a [Event],
 }
 
 impl Certifier {
+    /// The construction in every arithmetic a decision may need; `None` when a cluster's stated lengths do not close.
     pub fn new(linkage: &Linkage, dec: &Decomposition) -> Option<Self> {
         Some(Certifier {
             f64_balls: Construction::new(linkage, dec).ok()?,
@@ -132,7 +143,7 @@ impl Certifier {
         let refined = self.refine_dd(bits, at, lambda);
         // Double-double balls are about 2^-53 of the f64 ones wide: skip them
         // where even that would not exclude zero.
-        let shrink = Dd::UNIT_ROUNDOFF / f64::UNIT_ROUNDOFF * 16.0;
+        let shrink = Dd::UNIT_ROUNDOFF / f64::UNIT_ROUNDOFF * tolerance::DD_BALL_SHRINK_MARGIN;
         let hopeless = |v: &Value| v.radius.zip(v.midpoint).is_some_and(|(r, m)| r * shrink > m.abs());
         let balls = !fast.iter().filter(|v| v.proven.is_none()).all(hopeless);
         let fine = self.evaluate(&self.dd_balls, &self.dd_plain, bits, at, refined, upto, questions, balls);
@@ -150,12 +161,12 @@ impl Certifier {
             return if f.midpoint.is_none() && d.midpoint.is_none() { Sign::Undefined } else { Sign::Zero };
         };
         self.estimated.set(self.estimated.get() + 1);
-        let error = (x - y).abs() * (Dd::UNIT_ROUNDOFF / f64::UNIT_ROUNDOFF) * 1024.0
-            + 64.0 * Dd::UNIT_ROUNDOFF * self.f64_balls.scale;
+        let error = (x - y).abs() * (Dd::UNIT_ROUNDOFF / f64::UNIT_ROUNDOFF) * tolerance::ESTIMATE_MARGIN
+            + tolerance::ESTIMATE_FLOOR_ULPS * Dd::UNIT_ROUNDOFF * self.f64_balls.scale;
         if y.abs() > error { if y > 0.0 { Sign::Positive } else { Sign::Negative } } else { Sign::Zero }
     }
 
-    /// How many decisions so far rested on [`Self::estimate`] rather than a proof.
+    /// How many decisions so far rested on an estimate (see `estimate`) rather than a proof.
     pub fn estimated(&self) -> usize {
         self.estimated.get()
     }
@@ -234,20 +245,21 @@ impl Certifier {
         // bracket tried cannot prove a sign change there: skip the search.
         let pos = con.realize_prefix(Ball::exact(centre), bits, event.step).ok()?;
         let width = event.kind.slack_value(s.r1, s.r2, con.base_distance(&pos, event.step)).r;
-        if width.is_nan() || width >= 1e-8 * scale {
+        if width.is_nan() || width >= tolerance::BALL_TOO_WIDE * scale {
             return None;
         }
         // At least the smallest subnormal, so that the search grows even for
         // scenes at the bottom of f64's range.
-        let mut delta = (8.0 * T::UNIT_ROUNDOFF * lambda.to_f64().abs().max(scale)).max(f64::from_bits(1));
-        while delta < 1e-6 * scale {
+        let mut delta = (tolerance::LAMBDA_RESOLUTION_ULPS * T::UNIT_ROUNDOFF * lambda.to_f64().abs().max(scale))
+            .max(f64::from_bits(1));
+        while delta < tolerance::END_BRACKET_MAX * scale {
             let (lo, hi) = (centre - T::from_f64(delta), centre + T::from_f64(delta));
             if let (Some(a), Some(b)) = (slack(lo), slack(hi))
                 && a != b
             {
-                return Some(Ball { m: centre, r: delta * (1.0 + 1e-12) });
+                return Some(Ball { m: centre, r: delta * (1.0 + tolerance::BRACKET_RADIUS_MARGIN) });
             }
-            delta *= 16.0;
+            delta *= tolerance::END_BRACKET_GROWTH;
         }
         None
     }
@@ -259,15 +271,15 @@ impl Certifier {
         let con = &self.dd_jets;
         let s = &con.steps[event.step];
         let mut x = lambda;
-        for _ in 0..6 {
+        for _ in 0..tolerance::DD_NEWTON_STEPS {
             let Ok(pos) = con.realize_prefix(Jet::variable(x), bits, event.step) else { break };
             let g = event.kind.slack_value(s.r1, s.r2, con.base_distance(&pos, event.step));
             let step = g.v / g.d;
-            if !step.to_f64().is_finite() || step.to_f64().abs() > 1e-6 * con.scale {
+            if !step.to_f64().is_finite() || step.to_f64().abs() > tolerance::DD_NEWTON_MAX_STEP * con.scale {
                 break;
             }
             x = x - step;
-            if step.to_f64().abs() <= 4.0 * Dd::UNIT_ROUNDOFF * x.to_f64().abs() {
+            if step.to_f64().abs() <= tolerance::NEWTON_CONVERGED_ULPS * Dd::UNIT_ROUNDOFF * x.to_f64().abs() {
                 break;
             }
         }

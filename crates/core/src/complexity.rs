@@ -19,25 +19,43 @@ pub enum PairOrigin {
     /// hinged at step j's `u` (or `w`), closed into a four-cycle through
     /// `opposite` (holding step j's other base joint), which shares joint
     /// `far` with `other`.
-    FourCycle { step: usize, on_u: bool, other: usize, opposite: usize, far: usize },
+    FourCycle {
+        /// Step j.
+        step: usize,
+        /// Its cluster on `u` (`true`) or on `w`.
+        on_u: bool,
+        /// The built cluster hinged to it.
+        other: usize,
+        /// The cluster closing the four-cycle.
+        opposite: usize,
+        /// The joint `opposite` shares with `other`.
+        far: usize,
+    },
 }
 
 /// The valid pair that carries a step: clusters `tu ∋ u`, `tw ∋ w`, hinged at `x`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Carrier {
+    /// The built cluster containing u.
     pub tu: usize,
+    /// The built cluster containing w.
     pub tw: usize,
+    /// The joint shared by `tu` and `tw`: the Cayley vector gains (x, v_k).
     pub x: usize,
+    /// How the pair became valid.
     pub origin: PairOrigin,
 }
 
 /// A step where the four-cycle test fails.
 #[derive(Debug, Clone, PartialEq)]
 pub struct LccFailure {
+    /// The failing step (0-based).
     pub step: usize,
+    /// Why it fails, as a sentence.
     pub message: String,
 }
 
+/// The result of the four-cycle test (THEORY.md §3).
 #[derive(Debug, Clone)]
 pub struct Complexity {
     /// Low Cayley complexity: every endpoint is a ruler-and-compass value.
@@ -47,6 +65,7 @@ pub struct Complexity {
     /// For each step after the first, the pair that carries it (`None` for
     /// step 0, and from the failing step on when not LCC).
     pub carriers: Vec<Option<Carrier>>,
+    /// The first step where the test fails (`None` when LCC).
     pub failure: Option<LccFailure>,
 }
 

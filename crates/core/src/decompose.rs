@@ -10,26 +10,33 @@ use crate::linkage::{Constraint, Linkage};
 /// from bar lengths alone (a sketch's drawing only fixes orientations).
 #[derive(Debug, Clone, PartialEq)]
 pub enum Origin {
+    /// The cluster of bar `i`.
     Bar(usize),
+    /// The cluster of body `i`.
     Body(usize),
     /// The base non-edge (only in the merge from a base, never in `G`'s clusters).
     Base,
     /// Three clusters pairwise sharing one joint: `shared[i]` is the joint
     /// shared by `parts[i]` and `parts[(i + 1) % 3]`.
     Triangle {
+        /// The three merged clusters.
         parts: [usize; 3],
+        /// The joints they pairwise share.
         shared: [usize; 3],
     },
     /// Two clusters sharing two or more joints (only in over-constrained input).
     Overlap {
+        /// The two merged clusters.
         parts: [usize; 2],
     },
 }
 
+/// One cluster: its joints and how it was formed.
 #[derive(Debug, Clone)]
 pub struct ClusterNode {
     /// Sorted joint indices.
     pub joints: Vec<usize>,
+    /// How it was formed (a bar, a body, or a merge).
     pub origin: Origin,
 }
 
@@ -37,6 +44,7 @@ pub struct ClusterNode {
 /// (dead) so the merge tree can be walked.
 #[derive(Debug, Clone)]
 pub struct ClusterSet {
+    /// Every cluster ever formed, indexed by id (merged ones included).
     pub nodes: Vec<ClusterNode>,
     alive: Vec<bool>,
     by_joint: Vec<Vec<usize>>,
@@ -83,6 +91,7 @@ impl ClusterSet {
         set
     }
 
+    /// Add a cluster on `joints` (sorted and deduplicated) formed by `origin`; its id.
     pub fn add(&mut self, mut joints: Vec<usize>, origin: Origin) -> usize {
         joints.sort_unstable();
         joints.dedup();
@@ -95,6 +104,7 @@ impl ClusterSet {
         id
     }
 
+    /// Whether cluster `id` has not been merged into a bigger one.
     pub fn is_alive(&self, id: usize) -> bool {
         self.alive[id]
     }
@@ -104,6 +114,7 @@ impl ClusterSet {
         (0..self.nodes.len()).filter(|&i| self.alive[i]).collect()
     }
 
+    /// The joints clusters `a` and `b` share, sorted.
     pub fn shared(&self, a: usize, b: usize) -> Vec<usize> {
         sorted_intersection(&self.nodes[a].joints, &self.nodes[b].joints)
     }
@@ -189,7 +200,9 @@ pub struct Rigidity {
 /// A bar between two joints of one body.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct BodyBar {
+    /// The bar (index into the linkage's bars).
     pub bar: usize,
+    /// The body holding both its joints.
     pub body: usize,
     /// Its length agrees with the body's drawn shape ([`crate::scene::body_bar_agrees`]).
     pub agrees: bool,
@@ -287,10 +300,15 @@ fn fetch_pebble(start: usize, keep: usize, pebbles: &mut [u8], out: &mut [Vec<us
 /// `cluster_w ∋ w` (ids in [`Decomposition::clusters`]) share `vertex`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Step {
+    /// v_k: the joint the step places.
     pub vertex: usize,
+    /// u_k: the base joint on `cluster_u`.
     pub u: usize,
+    /// w_k: the base joint on `cluster_w`.
     pub w: usize,
+    /// The cluster holding u and v.
     pub cluster_u: usize,
+    /// The cluster holding w and v.
     pub cluster_w: usize,
 }
 
@@ -299,7 +317,9 @@ pub struct Step {
 pub struct Decomposition {
     /// The clusters of the linkage without its base, with their merge tree.
     pub clusters: ClusterSet,
+    /// The base non-edge f = (a, b): a at (0, 0), b at (λ, 0).
     pub base: [usize; 2],
+    /// The construction steps, in order.
     pub steps: Vec<Step>,
     /// Other valid base non-edges (up to [`MAX_OTHER_BASES`]).
     pub other_bases: Vec<[usize; 2]>,
@@ -307,15 +327,35 @@ pub struct Decomposition {
     pub base_chosen: bool,
 }
 
+/// Other valid bases listed at most (a bound on output, not on the search).
 pub const MAX_OTHER_BASES: usize = 32;
 
 /// Why a linkage is outside the handled class.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Outside {
-    Disconnected { parts: Vec<Vec<usize>> },
-    OverConstrained { redundant: Vec<Constraint>, dof: usize },
-    Rigid { tree_decomposable: bool },
-    ManyDof { dof: usize },
+    /// The joints fall apart into `parts` (not one linkage).
+    Disconnected {
+        /// The joints of each connected part.
+        parts: Vec<Vec<usize>>,
+    },
+    /// Some constraints are dependent (they over-constrain the linkage).
+    OverConstrained {
+        /// The constraints the pebble game rejected as dependent.
+        redundant: Vec<Constraint>,
+        /// Degrees of freedom that remain (without rigid motions).
+        dof: usize,
+    },
+    /// No degree of freedom (whether ruler-and-compass constructible or not).
+    Rigid {
+        /// Whether it is one cluster by merging (ruler-and-compass constructible).
+        tree_decomposable: bool,
+    },
+    /// More than one degree of freedom (`dof` of them).
+    ManyDof {
+        /// The number of degrees of freedom (2 or more).
+        dof: usize,
+    },
+    /// 1-dof, but no base non-edge makes it one cluster by merging.
     NotTreeDecomposable,
 }
 
@@ -370,7 +410,9 @@ impl Outside {
 /// A requested base that cannot be used.
 #[derive(Debug, Clone, PartialEq)]
 pub struct BaseError {
+    /// The base as asked.
     pub base: [usize; 2],
+    /// Why it cannot be used, as a sentence.
     pub message: String,
 }
 

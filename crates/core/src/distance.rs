@@ -1,5 +1,5 @@
-//! Cayley vectors and distances (THEORY.md §5), and the closest pair of
-//! realizations between two components, certified by branch and bound.
+//! The closest pair of realizations between two components by Cayley
+//! distance (THEORY.md §5), certified by branch and bound.
 //!
 //! Each component is cut into halves of segments, enclosed with proofs by
 //! [`crate::enclosure`]. Boxes (a piece of one component × a piece of the
@@ -15,14 +15,13 @@ use std::collections::{BinaryHeap, HashMap};
 use std::rc::Rc;
 
 use crate::cayley_space::CayleySpace;
+use crate::cayley_vector::{cayley_vector, euclid, mirror_images_exist, mirror_type};
 use crate::decompose::Decomposition;
 use crate::enclosure::{Half, enclose, halves};
 use crate::interval::{Centred, Dual, Interval};
-use crate::motion::{Component, Realization, Segment, component_segments};
-use crate::realize::{Construction, P2, RealizationType};
-
-/// The relative gap the closest pair is certified to by default.
-pub const DEFAULT_GAP: f64 = 1e-9;
+use crate::motion::{Component, Segment, component_segments};
+use crate::realize::{Construction, Realization, RealizationType, points};
+use crate::tolerance;
 
 /// Point enclosures spent at most on polishing the best pair (a few ms).
 const POLISH_BUDGET: usize = 400;
@@ -32,44 +31,18 @@ const POLISH_BUDGET: usize = 400;
 /// so at most a few seconds and tens of MB.
 pub const DEFAULT_MAX_BOXES: usize = 100_000;
 
-/// The complete Cayley distance vector: the lengths of the CCV non-edges.
-pub fn cayley_vector(pos: &[P2<f64>], ccv: &[[usize; 2]]) -> Vec<f64> {
-    ccv.iter().map(|&[p, q]| (pos[q][0] - pos[p][0]).hypot(pos[q][1] - pos[p][1])).collect()
-}
-
-pub fn euclid(a: &[f64], b: &[f64]) -> f64 {
-    a.iter().zip(b).map(|(x, y)| (x - y) * (x - y)).sum::<f64>().sqrt()
-}
-
-/// Whether every cluster is achiral (all its joints on a line, e.g. a bar):
-/// then the mirror image of a realization is one too, with the same Cayley
-/// vector, and the Cayley curve stands for a mirror pair.
-pub fn mirror_images_exist(con: &Construction<f64>, dec: &Decomposition) -> bool {
-    dec.steps.iter().flat_map(|s| [s.cluster_u, s.cluster_w]).all(|c| {
-        let shape = &con.shapes[c];
-        let (p, q) = (shape[0].1, shape[1].1);
-        let len = (q[0] - p[0]).hypot(q[1] - p[1]);
-        shape
-            .iter()
-            .all(|&(_, r)| ((q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0])).abs() <= 1e-12 * len * len)
-    })
-}
-
-/// The mirror image's type: every orientation flipped.
-pub fn mirror_type(ty: &RealizationType) -> RealizationType {
-    RealizationType(ty.0.iter().map(|b| !b).collect())
-}
-
 /// A component parametrized by arc length in λ, s ∈ [0, total): the Cayley
 /// vector is continuous in s across interval ends, so a minimizer can move
 /// from one oriented interval into the next.
 pub struct Arc {
     segments: Vec<Segment>,
     starts: Vec<f64>,
+    /// The component's total arc length in λ (scene units).
     pub total: f64,
 }
 
 impl Arc {
+    /// Component `c` of `space` as one arc, segment after segment.
     pub fn new(space: &CayleySpace<f64>, c: &Component) -> Arc {
         let segments = component_segments(space, c);
         let mut starts = Vec::with_capacity(segments.len());
@@ -103,7 +76,7 @@ pub struct ClosestOptions {
 
 impl Default for ClosestOptions {
     fn default() -> Self {
-        ClosestOptions { gap: DEFAULT_GAP, max_boxes: DEFAULT_MAX_BOXES }
+        ClosestOptions { gap: tolerance::DEFAULT_GAP, max_boxes: DEFAULT_MAX_BOXES }
     }
 }
 
@@ -137,12 +110,15 @@ pub struct Certificate {
     pub upper: f64,
     /// (upper − lower) / upper (0 when upper is 0, 1 when it is infinite).
     pub gap: f64,
+    /// The relative gap that was asked for.
     pub requested_gap: f64,
+    /// Why the search stopped.
     pub outcome: Outcome,
     /// The gap was reached and every interval end was verified.
     pub certified: bool,
     /// Boxes (pairs of pieces of the two components) evaluated.
     pub boxes: usize,
+    /// The box budget the search had.
     pub max_boxes: usize,
     /// Pairs of interval ends compared as candidates.
     pub end_pairs: usize,
@@ -157,7 +133,9 @@ pub struct Certificate {
 pub struct ClosestPair {
     /// Cayley distance of the pair as computed in f64.
     pub distance: f64,
+    /// The realization in the first component.
     pub a: Realization,
+    /// The realization in the second component.
     pub b: Realization,
     /// The components are mirror images (distance 0, but different motions).
     pub mirror: bool,
@@ -166,6 +144,7 @@ pub struct ClosestPair {
     /// realizations with the same Cayley vector (possible when the vector is
     /// short; THEORY.md §5 only promises one-to-one within a component).
     pub crossing: bool,
+    /// The proven bounds and how the search ended.
     pub certificate: Certificate,
 }
 
@@ -215,7 +194,7 @@ impl<'a> Pieces<'a> {
                 tc: t.mid(),
                 at_c: v.iter().map(|x| [x.c.v, x.c.d]).collect(),
                 over: v.iter().map(|x| x.b).collect(),
-                saturated: width(|x| x.b.v) <= 4.0 * width(|x| x.c.v),
+                saturated: width(|x| x.b.v) <= tolerance::SATURATION_FACTOR * width(|x| x.c.v),
             })
         };
         self.known.entry((half, t.lo.to_bits(), t.hi.to_bits())).or_insert_with(make).clone()
@@ -303,8 +282,8 @@ fn quadratic_lower(g: [Interval; 2], h: [Interval; 3], s: [Interval; 2]) -> f64 
     let mut hab = h[1].mid();
     let convex = haa >= 0.0 && hbb >= 0.0;
     if convex {
-        // |h_ab| ≤ √(h_aa h_bb)(1 − 1e-9) keeps the determinant provably ≥ 0.
-        let cap = ((p(haa) * p(hbb)).lo.sqrt() * (1.0 - 1e-9)).next_down().max(0.0);
+        // |h_ab| ≤ √(h_aa h_bb)(1 − margin) keeps the determinant provably ≥ 0.
+        let cap = ((p(haa) * p(hbb)).lo.sqrt() * (1.0 - tolerance::CONVEX_CAP_MARGIN)).next_down().max(0.0);
         hab = hab.clamp(-cap, cap);
     }
     let radius = |x: Interval, m: f64| (x - p(m)).mag();
@@ -458,7 +437,7 @@ fn polish(best: &mut Best, pieces: &mut (Pieces, Pieces), budget: usize) -> usiz
             let (g, ja, jb) = (va.mid() - vb.mid(), da.mid(), -db.mid());
             (jaa, jab, jbb, ga, gb) = (jaa + ja * ja, jab + ja * jb, jbb + jb * jb, ga + ja * g, gb + jb * g);
         }
-        let mu = 1e-12 * (jaa + jbb) + f64::MIN_POSITIVE;
+        let mu = tolerance::POLISH_DAMPING * (jaa + jbb) + f64::MIN_POSITIVE;
         let det = (jaa + mu) * (jbb + mu) - jab * jab;
         if det.is_nan() || det <= 0.0 {
             break;
@@ -475,8 +454,8 @@ fn polish(best: &mut Best, pieces: &mut (Pieces, Pieces), budget: usize) -> usiz
         best.offer((pieces.0.halves, pieces.1.halves), &a, &b, bounds(&a, &b).centre);
         if best.upper < before {
             damping = 1.0;
-        } else if damping > 0.01 {
-            damping /= 4.0;
+        } else if damping > tolerance::POLISH_MIN_STEP {
+            damping /= tolerance::POLISH_SHRINK;
         } else {
             break;
         }
@@ -658,7 +637,7 @@ fn named(
     let seg = &segs[hs[h].segment];
     let r = Realization { ty: seg.ty.clone(), lambda: hs[h].lambda(t, seg) };
     let flat: &[usize] = if t == 0.0 { &hs[h].flat_steps } else { &[] };
-    let v = con.realize_flat(r.lambda, &r.ty.0, con.steps.len(), flat).ok().map(|p| cayley_vector(&p, ccv));
+    let v = con.realize_flat(r.lambda, &r.ty.0, con.steps.len(), flat).ok().map(|p| cayley_vector(&points(&p), ccv));
     (r, v)
 }
 

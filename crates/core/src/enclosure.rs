@@ -32,22 +32,18 @@
 //! oriented intervals themselves (which type exists between which ends) are
 //! the analysis's; only their ends are verified here.
 
-use crate::cayley_space::{CayleySpace, Kind};
+use crate::cayley_space::CayleySpace;
 use crate::interval::{Arith, Centred, Dual, Interval, Offset};
 use crate::motion::Segment;
-use crate::realize::Construction;
-
-/// An end is searched for a verifying bracket up to this half-width (× scale):
-/// a bound on work, not a decision. An end the analysis placed worse than
-/// this (or where several steps are flat at once) stays unverified, and the
-/// closest pair is then not certified.
-pub const END_BRACKET_MAX: f64 = 1e-6;
+use crate::realize::{Construction, Kind};
+use crate::tolerance;
 
 /// Half of a segment, parametrized from one of its ends by λ = λ* + dir·t².
 #[derive(Clone, Debug)]
 pub struct Half {
     /// Index of the segment in the component's list.
     pub segment: usize,
+    /// The segment's realization type.
     pub bits: Vec<bool>,
     /// The end's λ as the analysis computed it.
     pub end: f64,
@@ -180,11 +176,13 @@ fn slack_over(con: &Construction<f64>, bits: &[bool], (k, kind): (usize, Kind), 
 
 /// A proven enclosure of the exact root of step `k`'s slack near `end`
 /// (see the module doc), narrowed by bisection; `None` when none is found
-/// within [`END_BRACKET_MAX`] × scale.
+/// within [`tolerance::END_BRACKET_MAX`] × scale (an end placed worse, or
+/// where several steps are flat at once, stays unverified, and the closest
+/// pair is then not certified).
 fn verify_end(con: &Construction<f64>, bits: &[bool], flat: (usize, Kind), end: f64, dir: f64) -> Option<Interval> {
     let s_at = |l: f64| slack_over(con, bits, flat, Interval::point(l)).0.v;
-    let mut m = 4.0 * f64::EPSILON * end.abs().max(con.scale);
-    while m <= END_BRACKET_MAX * con.scale {
+    let mut m = tolerance::LAMBDA_RESOLUTION_ULPS * (f64::EPSILON / 2.0) * end.abs().max(con.scale);
+    while m <= tolerance::END_BRACKET_MAX * con.scale {
         let (mut inner, mut outer) = (end + dir * m, end - dir * m);
         let (s, strict) = slack_over(con, bits, flat, Interval::new(inner.min(outer), inner.max(outer)));
         if strict && (s.d * Interval::point(dir)).lo > 0.0 && s_at(inner).lo > 0.0 && s_at(outer).hi < 0.0 {
@@ -205,7 +203,7 @@ fn verify_end(con: &Construction<f64>, bits: &[bool], flat: (usize, Kind), end: 
             }
             return Some(Interval::new(inner.min(outer), inner.max(outer)));
         }
-        m *= 4.0;
+        m *= tolerance::ENCLOSURE_BRACKET_GROWTH;
     }
     None
 }
@@ -283,7 +281,8 @@ pub fn enclose(con: &Construction<f64>, ccv: &[[usize; 2]], half: &Half, t: Inte
             // S is small against the width of its own enclosure (which the
             // anchor's width dominates). Either way is sound; this only saves
             // work away from the end.
-            if t.lo < 0.25 * t.hi || root.c.v.width() > 1e-6 * root.c.v.lo {
+            if t.lo < tolerance::NEAR_END_FRACTION * t.hi || root.c.v.width() > tolerance::LOOSE_ENCLOSURE * root.c.v.lo
+            {
                 let hull = if t.lo == 0.0 {
                     s_l.b
                 } else {

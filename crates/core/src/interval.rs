@@ -12,13 +12,16 @@ use std::ops::{Add, Div, Mul, Neg, Sub};
 /// A closed interval `[lo, hi]` of reals (bounds may be infinite).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Interval {
+    /// Lower bound.
     pub lo: f64,
+    /// Upper bound.
     pub hi: f64,
 }
 
 impl Interval {
     /// All reals: what an operation returns when it cannot bound its result.
     pub const ENTIRE: Interval = Interval { lo: f64::NEG_INFINITY, hi: f64::INFINITY };
+    /// The point 0.
     pub const ZERO: Interval = Interval { lo: 0.0, hi: 0.0 };
 
     /// `[lo, hi]`; a NaN bound becomes the infinite one (nothing is known).
@@ -51,6 +54,7 @@ impl Interval {
         if lo <= hi { Interval { lo, hi } } else { self }
     }
 
+    /// Whether 0 lies in the interval (bounds included).
     pub fn contains_zero(self) -> bool {
         self.lo <= 0.0 && self.hi >= 0.0
     }
@@ -169,8 +173,11 @@ impl Div for Interval {
 /// every first and `dd` every second derivative at the box's points.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Dual {
+    /// Every value over the box.
     pub v: Interval,
+    /// Every first derivative over the box.
     pub d: Interval,
+    /// Every second derivative over the box.
     pub dd: Interval,
 }
 
@@ -197,6 +204,7 @@ impl Dual {
         Dual { v: self.v, d: self.d * p_s, dd: self.dd * p_s.sqr() + self.d * p_ss }
     }
 
+    /// The square, with its derivatives by the chain rule.
     pub fn sqr(self) -> Dual {
         Dual { v: self.v.sqr(), d: (self.v * self.d).twice(), dd: (self.d.sqr() + self.v * self.dd).twice() }
     }
@@ -283,13 +291,17 @@ impl Div for Dual {
 pub trait Arith:
     Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> + Div<Output = Self> + Neg<Output = Self>
 {
+    /// A constant known to lie in `x`.
     fn constant(x: Interval) -> Self;
+    /// The square.
     fn sqr(self) -> Self;
+    /// The square root (of the part ≥ 0 for an interval reaching below 0).
     fn sqrt(self) -> Self;
     /// max(x, 0) for a quantity that is ≥ 0 at every point it stands for.
     fn clamp_nonneg(self) -> Self;
     /// Every value the quantity takes.
     fn value(self) -> Interval;
+    /// √(x² + y²).
     fn hypot(x: Self, y: Self) -> Self {
         (x.sqr() + y.sqr()).sqrt()
     }
@@ -329,21 +341,27 @@ impl Arith for Dual {
 /// constants.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Centred {
+    /// The quantity at the box's centre (its derivatives there too).
     pub c: Dual,
+    /// The quantity over the whole box.
     pub b: Dual,
+    /// The parameter's offset from the centre (zero for constants).
     pub s: Offset,
 }
 
 /// The parameter's offset from the box's centre, and half its square.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Offset {
+    /// The offset s = t − centre over the box.
     pub s: Interval,
     half_s2: Interval,
 }
 
 impl Offset {
+    /// No offset: a constant.
     pub const NONE: Offset = Offset { s: Interval::ZERO, half_s2: Interval::ZERO };
 
+    /// The offset `s` with its half square.
     pub fn new(s: Interval) -> Offset {
         Offset { s, half_s2: Interval::point(0.5) * s.sqr() }
     }

@@ -37,7 +37,7 @@ fn one_minus_plus_cos<T: Real>(a: T, b: T, t: T) -> Option<(T, T)> {
     let two = T::from_f64(2.0);
     let omc = (t - m) / a * ((t + m) / (two * b)); // = 1 − cos
     let opc = (s - t) / a * ((s + t) / (two * b)); // = 1 + cos
-    let tol = T::from_f64(64.0 * T::UNIT_ROUNDOFF);
+    let tol = T::from_f64(crate::tolerance::INVERT_CLAMP_ULPS * T::UNIT_ROUNDOFF);
     if omc < -tol || opc < -tol {
         return None;
     }
@@ -60,8 +60,11 @@ fn side_from_angle<T: Real>(a: T, b: T, one_minus_cos: T) -> T {
 
 /// Candidate λ values for "step k flat with d_k = t".
 pub struct Inverter<'a, T: Real> {
+    /// The construction whose steps are inverted.
     pub con: &'a Construction<T>,
+    /// Its decomposition (the clusters of each step).
     pub dec: &'a Decomposition,
+    /// The four-cycle test's carriers, which the inversion follows.
     pub cx: &'a Complexity,
 }
 
@@ -74,7 +77,9 @@ impl<T: Real> Inverter<'_, T> {
         self.descend(k, t, &mut out);
         out.retain(|x| *x > T::zero());
         out.sort_by(|a, b| a.partial_cmp(b).unwrap_or(std::cmp::Ordering::Equal));
-        out.dedup_by(|a, b| (*a - *b).abs() <= T::from_f64(4.0 * T::UNIT_ROUNDOFF) * b.abs());
+        out.dedup_by(|a, b| {
+            (*a - *b).abs() <= T::from_f64(crate::tolerance::SAME_CANDIDATE_ULPS * T::UNIT_ROUNDOFF) * b.abs()
+        });
         out
     }
 

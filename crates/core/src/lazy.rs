@@ -1,10 +1,10 @@
 //! Lazy analysis: the connected component through one realization, found by
 //! walking its events (THEORY.md §4) and computing only the types the walk
 //! visits, never the 2^n types of the exhaustive sweep in
-//! [`crate::cayley_space`].
+//! [`crate::cayley_space`](mod@crate::cayley_space).
 //!
 //! From a realization (τ, λ0) the interval of τ around λ0 is grown both ways
-//! by [`Walker::next_end`]: the first λ at which some step's slack reaches
+//! by `Walker::next_end`: the first λ at which some step's slack reaches
 //! zero. There the flat step's bit flips (the flip rule of
 //! [`crate::motion::components`]) and the new type's interval is grown the
 //! other way from the shared endpoint, until the walk is back at its start.
@@ -22,15 +22,18 @@
 //! step is only examined where the steps before it close.
 //!
 //! Guarantee: the numeric method's (see `numeric_roots` in
-//! [`crate::cayley_space`]): every end is found unless a gap between samples
+//! [`crate::cayley_space`](mod@crate::cayley_space)): every end is found unless a gap between samples
 //! holds two inflections of one slack; a near-double root is a tangency and is
 //! noted. Cost: O(samples · n) per interval visited, plus O(k) per Newton
 //! iteration on step k; nothing is exponential in the depth.
 
-use crate::cayley_space::{CayleySpace, Endpoint, Event, Kind, Method, Note, OrientedInterval};
+use crate::cayley_space::{CayleySpace, Method, Note, OrientedInterval};
 use crate::certify::{At, Certifier, Sign};
 use crate::real::{Jet, Real};
-use crate::realize::{Construction, RealizationType, Unrealizable};
+use crate::realize::{Construction, Event, Kind, RealizationType, Unrealizable};
+use crate::roots::{
+    Endpoint, EndpointIds, Extremum, base_distance_jet, between, cmp, cosine_sample, newton, side_signs,
+};
 use crate::tolerance;
 
 /// How far the walk may go.
@@ -68,9 +71,7 @@ pub fn component_through<T: Real>(
     };
     // Sorted as the exhaustive sweep sorts, so that the component's traversal
     // starts (and turns) the same way: from its least type's interval, upward.
-    intervals.sort_by(|a, b| {
-        a.ty.cmp(&b.ty).then(a.lower.lambda.partial_cmp(&b.lower.lambda).unwrap_or(std::cmp::Ordering::Equal))
-    });
+    intervals.sort_by(|a, b| a.ty.cmp(&b.ty).then(cmp(&a.lower.lambda, &b.lower.lambda)));
     let mut notes = walker.notes;
     notes.dedup();
     Ok(CayleySpace {
@@ -118,17 +119,12 @@ struct Walker<'a, T: Real> {
     range_events: [Vec<Event>; 2],
     coincide: T,
     root_value: T,
-    next_id: usize,
+    ids: EndpointIds,
     notes: Vec<Note>,
 }
 
 fn finite<T: Real>(j: &Jet<T>) -> bool {
     j.v.to_f64().is_finite() && j.d.to_f64().is_finite() && j.s.to_f64().is_finite()
-}
-
-/// Whether `x` lies strictly between `a` and `b` (in either order).
-fn between<T: Real>(x: T, a: T, b: T) -> bool {
-    (x > a && x < b) || (x > b && x < a)
 }
 
 impl<'a, T: Real> Walker<'a, T> {
@@ -168,14 +164,9 @@ impl<'a, T: Real> Walker<'a, T> {
             range_events,
             coincide: T::from_f64(tolerance::EVENTS_COINCIDE) * scale,
             root_value: T::from_f64(tolerance::ROOT_VALUE) * scale,
-            next_id: 0,
+            ids: EndpointIds::default(),
             notes: Vec::new(),
         }
-    }
-
-    fn endpoint(&mut self, lambda: T, events: Vec<Event>) -> Endpoint<T> {
-        self.next_id += 1;
-        Endpoint { lambda, events, id: self.next_id }
     }
 
     fn probe(&self, bits: &[bool], lambda: T) -> Probe<T> {
@@ -199,9 +190,8 @@ impl<'a, T: Real> Walker<'a, T> {
 
     /// Step k's slack at λ alone (realizing only the steps before it).
     fn slack_at(&self, s: Along<T>, lambda: T) -> Option<Jet<T>> {
-        let pos = self.jet.realize_prefix(Jet::variable(lambda), s.bits, s.k).ok()?;
-        let d = self.jet.base_distance(&pos, s.k);
-        d.v.to_f64().is_finite().then(|| self.slack(s.k, s.kind, d, s.dir))
+        let d = base_distance_jet(self.jet, s.bits, s.k, lambda)?;
+        Some(self.slack(s.k, s.kind, d, s.dir))
     }
 
     /// A start at a tangency that is an isolated point (a step's slack is
@@ -217,15 +207,14 @@ impl<'a, T: Real> Walker<'a, T> {
         let at = |x: f64| At { lambda: x, events: &[] };
         let here = self.cert.slack_signs(&ty.0, at(l), &questions);
         let (k, kind) = questions.iter().zip(&here).find(|(_, s)| **s == Sign::Zero).map(|(q, _)| *q)?;
-        // A side offset far above double-double resolution and far below any feature.
-        let h = 1e-9 * self.con.scale;
+        let h = tolerance::ISOLATED_SIDE_OFFSET * self.con.scale;
         let side = |x: f64| self.cert.slack_sign(&ty.0, at(x), k, kind);
         if side(l - h) != Sign::Negative || side(l + h) != Sign::Negative {
             return None;
         }
         let event = Event { step: k, kind };
         self.notes.push(Note::Tangency { lambda: l, event, inside: false });
-        let p = self.endpoint(lambda, vec![event]);
+        let p = self.ids.make(lambda, vec![event]);
         let point = |t: RealizationType| OrientedInterval { ty: t, lower: p.clone(), upper: p.clone() };
         Some(vec![point(ty.clone()), point(ty.flipped(k))])
     }
@@ -252,13 +241,13 @@ impl<'a, T: Real> Walker<'a, T> {
                 if events.len() > 1 {
                     self.notes.push(Note::Coincident { lambda: lambda.to_f64(), events: events.clone() });
                 }
-                self.endpoint(lambda, events)
+                self.ids.make(lambda, events)
             }
-            End::Events(lambda, _) => self.endpoint(lambda, Vec::new()),
+            End::Events(lambda, _) => self.ids.make(lambda, Vec::new()),
             End::Stuck(lambda, step) => {
                 let l = lambda.to_f64();
                 self.notes.push(Note::Degenerate { lambda: [l, l], step });
-                self.endpoint(lambda, Vec::new())
+                self.ids.make(lambda, Vec::new())
             }
         }
     }
@@ -337,14 +326,8 @@ impl<'a, T: Real> Walker<'a, T> {
         let half = T::from_f64(0.5);
         let mut near = Probe { lambda: from.lambda, d: from.d.clone() };
         let mut flat_at_near = entering.to_vec();
-        let grid = |i: usize| {
-            if i == m {
-                far
-            } else {
-                let c = (std::f64::consts::PI * i as f64 / m as f64).cos();
-                from.lambda + dir * length * half * T::from_f64(1.0 - c)
-            }
-        };
+        // The last sample is the range's end itself.
+        let grid = |i: usize| if i == m { far } else { cosine_sample(from.lambda, far, i, m) };
         let finest = T::from_f64(tolerance::ROOT_STEP * self.con.scale);
         // Samples still to visit, nearest last; refined where the jets disagree.
         let approach = T::from_f64(tolerance::LAZY_APPROACH * self.con.scale);
@@ -426,7 +409,7 @@ impl<'a, T: Real> Walker<'a, T> {
     fn well_sampled(&self, near: &Probe<T>, right: &Probe<T>, dir: T) -> bool {
         let half = T::from_f64(0.5);
         let length = (right.lambda - near.lambda) * dir;
-        let coarse = T::from_f64(1e-7 * self.con.scale);
+        let coarse = T::from_f64(tolerance::WELL_SAMPLED_COARSE * self.con.scale);
         let n = near.d.len().min(right.d.len());
         for k in 0..n {
             for &kind in self.kinds(k) {
@@ -439,7 +422,9 @@ impl<'a, T: Real> Walker<'a, T> {
                 }
                 let ahead = s0.v + s0.d * length + half * s0.s * length * length;
                 let back = s1.v - s1.d * length + half * s1.s * length * length;
-                let margin = T::from_f64(0.25) * half * ((if s0.v > T::zero() { s0.v } else { T::zero() }) + s1.v);
+                let margin = T::from_f64(tolerance::MODEL_MARGIN)
+                    * half
+                    * ((if s0.v > T::zero() { s0.v } else { T::zero() }) + s1.v);
                 if (ahead - s1.v).abs() > margin || (back - s0.v).abs() > margin {
                     return false;
                 }
@@ -560,7 +545,7 @@ impl<'a, T: Real> Walker<'a, T> {
     /// root is only located to about √ε, and counting such noise as two
     /// crossings would split an interval at a tangency.
     fn rounding_at_tangency(&self, s: Jet<T>) -> bool {
-        let noise = T::from_f64(64.0 * T::UNIT_ROUNDOFF * self.con.scale);
+        let noise = T::from_f64(tolerance::TANGENCY_NOISE_ULPS * T::UNIT_ROUNDOFF * self.con.scale);
         finite(&s) && s.v >= -noise && s.d * s.d <= T::from_f64(2.0) * s.s.abs() * noise
     }
 
@@ -577,8 +562,7 @@ impl<'a, T: Real> Walker<'a, T> {
         if s.v < -self.root_value && !entering {
             return false;
         }
-        let slope_tol = T::from_f64(tolerance::tangent_slope(T::UNIT_ROUNDOFF));
-        if s.d.abs() > slope_tol && !self.rounding_at_tangency(s) { s.d > zero } else { s.s > zero }
+        if self.rounding_at_tangency(s) { s.s > zero } else { side_signs(s).1 > 0 }
     }
 
     /// Roots of a slack positive at both ends of [a, b], from its jets.
@@ -590,7 +574,7 @@ impl<'a, T: Real> Walker<'a, T> {
                 // Halve: each half is certified or halved again.
                 let c = (a + b) / T::from_f64(2.0);
                 let sc = self.slack_at(along, c)?;
-                if depth >= 40 || !finite(&sc) || !between(c, a, b) {
+                if depth >= tolerance::ROOT_MAX_SPLITS || !finite(&sc) || !between(c, a, b) {
                     return self.through_minimum(along, a, b);
                 }
                 if sc.v <= T::zero() {
@@ -616,22 +600,18 @@ impl<'a, T: Real> Walker<'a, T> {
         // The slope (along the walk) goes from negative to positive: Newton on −slope.
         let m = newton(a, b, |x| slope(self, x).map(|s| (-s.d, -s.s * dir)));
         let sm = slope(self, m)?;
-        if sm.v > self.root_value {
-            return None;
-        }
-        if sm.v >= -self.root_value {
-            let event = Event { step: k, kind };
-            self.notes.push(Note::Tangency { lambda: m.to_f64(), event, inside: true });
-            if sm.v != zero {
-                self.notes.push(Note::Unresolved {
-                    lambda: m.to_f64(),
-                    step: k,
-                    detail: "a near-double root: two endpoints or none, not separable at this precision".into(),
-                });
+        match Extremum::of(sm.v, self.root_value) {
+            Extremum::Above => None,
+            Extremum::Touch { exact } => {
+                let event = Event { step: k, kind };
+                self.notes.push(Note::Tangency { lambda: m.to_f64(), event, inside: true });
+                if !exact {
+                    self.notes.push(Note::near_double_root(m.to_f64(), k));
+                }
+                None
             }
-            return None;
+            Extremum::Below => Some(self.locate(along, a, m)),
         }
-        Some(self.locate(along, a, m))
     }
 
     /// The root of step k's slack between a (slack > 0) and b (≤ 0).
@@ -682,59 +662,12 @@ fn certify<T: Real>(s0: Jet<T>, s1: Jet<T>, length: T) -> Shape {
 /// down to a distance `finest`, the nearest to `end` first.
 fn toward<T: Real>(end: T, from: T, finest: T) -> Vec<T> {
     let mut out = Vec::new();
-    let ratio = T::from_f64(8.0);
+    let ratio = T::from_f64(tolerance::APPROACH_RATIO);
     let mut offset = (from - end) / ratio;
-    while offset.abs() > finest && out.len() < 24 {
+    while offset.abs() > finest && out.len() < tolerance::APPROACH_MAX_SAMPLES {
         out.push(end + offset);
         offset = offset / ratio;
     }
     out.reverse();
     out
-}
-
-/// A root of g between a (g > 0) and b (g ≤ 0, or undefined): Newton steps
-/// from g's value and derivative (`f` gives both, in λ) while they stay
-/// inside the shrinking bracket, bisection otherwise; to full precision.
-fn newton<T: Real>(a: T, b: T, f: impl Fn(T) -> Option<(T, T)>) -> T {
-    let (mut pos, mut neg) = (a, b);
-    let two = T::from_f64(2.0);
-    let mut x = (a + b) / two;
-    let mut best = (x, T::from_f64(f64::INFINITY));
-    for _ in 0..200 {
-        let Some((g, dg)) = f(x) else {
-            neg = x;
-            x = (pos + neg) / two;
-            if !between(x, pos, neg) {
-                break;
-            }
-            continue;
-        };
-        if g.abs() < best.1 {
-            best = (x, g.abs());
-        }
-        if g == T::zero() {
-            return x;
-        }
-        if g > T::zero() {
-            pos = x;
-        } else {
-            neg = x;
-        }
-        let step = g / dg;
-        let next = x - step;
-        let tiny = T::from_f64(4.0 * T::UNIT_ROUNDOFF) * x.abs();
-        if between(next, pos, neg) && step.to_f64().is_finite() {
-            if step.abs() <= tiny {
-                return next;
-            }
-            x = next;
-        } else {
-            let mid = (pos + neg) / two;
-            if !between(mid, pos, neg) {
-                break;
-            }
-            x = mid;
-        }
-    }
-    best.0
 }

@@ -1,13 +1,16 @@
 //! caymos-core: Cayley analysis of 1-dof tree-decomposable planar linkages.
 //!
 //! The modules follow the data flow: a [`scene`] file becomes a
-//! [`linkage`]; [`decompose`] recognises the class and builds the
+//! [`linkage`]; [`decompose`](mod@decompose) recognises the class and builds the
 //! construction steps; [`complexity`] decides low Cayley complexity;
 //! [`realize`] places joints for a (λ, type); [`invert`] gives the closed-form
-//! endpoint candidates; [`cayley_space`] (exhaustive) and [`lazy`] (one
-//! component) compute the Cayley configuration space, with structural
-//! decisions proven in [`certify`]; [`motion`] joins intervals into components
-//! and paths; [`distance`] measures and certifies the closest pair.
+//! endpoint candidates; [`cayley_space`](mod@cayley_space) (exhaustive) and [`lazy`] (one
+//! component) compute the Cayley configuration space from the shared parts of
+//! [`roots`], with structural decisions proven in [`certify`]; [`motion`]
+//! joins intervals into components and paths; [`cayley_vector`](mod@cayley_vector) gives the
+//! complete Cayley distance vectors; [`distance`] certifies the closest pair.
+//! All tolerances live in [`tolerance`]; [`real`] and [`interval`] are the
+//! arithmetics (double-double, jets, balls, intervals).
 //! [`analysis`] runs it all, in f64 with a double-double self-check.
 //!
 //! ```
@@ -26,8 +29,12 @@
 //! assert_eq!(solved.union, vec![[2.5, 7.0]]);
 //! assert_eq!(solved.space.intervals.len(), 4);
 //! ```
+
+#![warn(missing_docs)]
+
 pub mod analysis;
 pub mod cayley_space;
+pub mod cayley_vector;
 pub mod certify;
 pub mod complexity;
 pub mod decompose;
@@ -41,5 +48,26 @@ pub mod motion;
 pub mod numfmt;
 pub mod real;
 pub mod realize;
+pub mod roots;
 pub mod scene;
 pub mod tolerance;
+
+/// nalgebra, at the version whose [`Point2`] the positions are.
+pub use nalgebra;
+
+// The main types and entry points, in data-flow order; every module stays
+// public for the rest.
+pub use analysis::{Analysis, Scope, Solved, analyse, analyse_with};
+pub use cayley_space::{CayleySpace, Method, Note, OrientedInterval, cayley_space};
+pub use cayley_vector::{cayley_vector, euclid};
+pub use certify::{Certifier, Sign};
+pub use complexity::{Complexity, four_cycle_test};
+pub use decompose::{Decomposition, Outside, decompose};
+pub use distance::{Certificate, ClosestOptions, ClosestPair, closest_pair};
+pub use lazy::{LazyOptions, component_through};
+pub use linkage::Linkage;
+pub use motion::{Component, Components, Sample, Segment, Stepper, WalkSummary, components, realization_at};
+pub use real::{Ball, Dd, Jet, Real};
+pub use realize::{Construction, Drawn, Event, Kind, Point2, Realization, RealizationType, Unrealizable};
+pub use roots::Endpoint;
+pub use scene::{Scene, SceneError, load_scene, parse_scene};

@@ -12,7 +12,9 @@ use crate::scene::Scene;
 /// A bar with its length (stated, or the drawn distance).
 #[derive(Debug, Clone, PartialEq)]
 pub struct LinkBar {
+    /// The two joints it joins.
     pub joints: [usize; 2],
+    /// Its length in scene units (f64).
     pub length: f64,
     /// The length from the input as written (stated, or the distance of the
     /// written coordinates) in double-double; `length` is it rounded.
@@ -21,25 +23,32 @@ pub struct LinkBar {
     pub sketch_error: f64,
 }
 
+/// The linkage of a scene: named joints, bars, bodies, and its scale.
 #[derive(Debug, Clone)]
 pub struct Linkage {
+    /// Joint names, indexed by joint.
     pub names: Vec<String>,
     /// Positions as drawn (y up).
     pub drawn: Vec<[f64; 2]>,
     /// The same as written, in double-double.
     pub drawn_exact: Vec<[Dd; 2]>,
+    /// The bars, in scene order.
     pub bars: Vec<LinkBar>,
+    /// Rigid bodies: the joints of each, 3 or more.
     pub bodies: Vec<Vec<usize>>,
+    /// The ground joints, which the display frame keeps in place.
     pub ground: Vec<usize>,
     /// Largest bar length or body span: the unit all tolerances are relative to.
     pub scale: f64,
 }
 
+/// Euclidean distance between two points (scene units).
 pub fn dist(p: [f64; 2], q: [f64; 2]) -> f64 {
     (q[0] - p[0]).hypot(q[1] - p[1])
 }
 
 impl Linkage {
+    /// The linkage a scene states; the scale is 1 for a scene with no positive length.
     pub fn from_scene(scene: &Scene) -> Linkage {
         let drawn: Vec<[f64; 2]> = scene.joints.iter().map(|j| j.pos).collect();
         // The written value where it still rounds to the f64 one (a scene
@@ -87,6 +96,12 @@ impl Linkage {
         }
     }
 
+    /// The drawn positions as points (scene units, y up).
+    pub fn drawn_points(&self) -> Vec<nalgebra::Point2<f64>> {
+        self.drawn.iter().map(|&p| p.into()).collect()
+    }
+
+    /// The number of joints.
     pub fn n_joints(&self) -> usize {
         self.names.len()
     }
@@ -120,7 +135,9 @@ impl Linkage {
 /// Where a constraint edge comes from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Constraint {
+    /// Bar `i` of the linkage.
     Bar(usize),
+    /// Body `i` of the linkage (one of its fan edges).
     Body(usize),
 }
 

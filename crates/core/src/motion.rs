@@ -4,14 +4,16 @@
 
 use std::collections::HashMap;
 
-use crate::cayley_space::{CayleySpace, Event, OrientedInterval};
+use crate::cayley_space::{CayleySpace, OrientedInterval};
 use crate::linkage::Linkage;
-use crate::realize::{Construction, P2, RealizationType, to_display};
+use crate::realize::{Construction, Event, Point2, Realization, RealizationType, to_display};
 
 /// Which end of an interval.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Side {
+    /// The lower end (smaller λ).
     Lower,
+    /// The upper end (larger λ).
     Upper,
 }
 
@@ -28,10 +30,13 @@ impl Side {
 /// traversal order, each walked upward (`forward`) or downward.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Component {
+    /// Indices of its oriented intervals, in traversal order.
     pub intervals: Vec<usize>,
+    /// Per interval: walked upward in λ (`true`) or downward.
     pub forward: Vec<bool>,
     /// Whether the walk came back to its start (always, in a generic scene).
     pub closed: bool,
+    /// The smallest and largest λ it reaches.
     pub lambda_range: [f64; 2],
 }
 
@@ -39,7 +44,9 @@ pub struct Component {
 /// none (a dead end): only in non-generic scenes.
 #[derive(Clone, Debug, PartialEq)]
 pub struct BranchPoint {
+    /// The λ of the endpoint.
     pub lambda: f64,
+    /// The steps flat there.
     pub events: Vec<Event>,
     /// The interval the walk arrived from.
     pub from: usize,
@@ -47,15 +54,18 @@ pub struct BranchPoint {
     pub options: Vec<usize>,
 }
 
+/// The connected components of a Cayley space, and where the walk had no unique way on.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Components {
+    /// The components, in order of their first interval.
     pub list: Vec<Component>,
     /// For each oriented interval, its component.
     pub of_interval: Vec<usize>,
+    /// Endpoints with several ways on or none (non-generic scenes only).
     pub branch_points: Vec<BranchPoint>,
 }
 
-fn end(i: &OrientedInterval<f64>, side: Side) -> &crate::cayley_space::Endpoint<f64> {
+fn end(i: &OrientedInterval<f64>, side: Side) -> &crate::roots::Endpoint<f64> {
     match side {
         Side::Lower => &i.lower,
         Side::Upper => &i.upper,
@@ -154,33 +164,6 @@ pub fn components(space: &CayleySpace<f64>) -> Components {
     Components { list, of_interval, branch_points }
 }
 
-/// A realization named by type and base length.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Realization {
-    pub ty: RealizationType,
-    pub lambda: f64,
-}
-
-impl Realization {
-    /// Parse `TYPE@LAMBDA`, e.g. `-+-+@41.2`.
-    pub fn parse(text: &str) -> Result<Self, String> {
-        let (ty, lambda) =
-            text.split_once('@').ok_or_else(|| format!("\"{text}\": expected TYPE@LAMBDA, e.g. -+-+@41.2"))?;
-        let ty = RealizationType::parse(ty.trim()).ok_or_else(|| format!("\"{ty}\": a type is a string of + and -"))?;
-        let lambda: f64 = lambda.trim().parse().map_err(|_| format!("\"{lambda}\": not a number"))?;
-        if !lambda.is_finite() {
-            return Err(format!("\"{lambda}\": not a finite number"));
-        }
-        Ok(Realization { ty, lambda })
-    }
-}
-
-impl std::fmt::Display for Realization {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "{}@{}", self.ty, self.lambda)
-    }
-}
-
 /// The oriented interval holding a realization (its own type's interval).
 pub fn locate(space: &CayleySpace<f64>, r: &Realization, scale: f64) -> Option<usize> {
     let tol = crate::tolerance::FEASIBLE * scale;
@@ -213,11 +196,17 @@ pub fn explain_missing(space: &CayleySpace<f64>, r: &Realization, n_steps: usize
 /// interval endpoint (empty for an end inside the interval).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Segment {
+    /// Index of the oriented interval.
     pub interval: usize,
+    /// Its realization type.
     pub ty: RealizationType,
+    /// λ where the stretch starts.
     pub from: f64,
+    /// λ where it ends (below `from` when walked downward).
     pub to: f64,
+    /// Steps flat at `from` (empty inside the interval).
     pub flat_from: Vec<usize>,
+    /// Steps flat at `to` (empty inside the interval).
     pub flat_to: Vec<usize>,
 }
 
@@ -242,7 +231,7 @@ pub fn component_segments(space: &CayleySpace<f64>, c: &Component) -> Vec<Segmen
         .map(|(&i, &fwd)| {
             let iv = &space.intervals[i];
             let (a, b) = if fwd { (&iv.lower, &iv.upper) } else { (&iv.upper, &iv.lower) };
-            let steps = |e: &crate::cayley_space::Endpoint<f64>| e.events.iter().map(|ev| ev.step).collect();
+            let steps = |e: &crate::roots::Endpoint<f64>| e.events.iter().map(|ev| ev.step).collect();
             Segment {
                 interval: i,
                 ty: iv.ty.clone(),
@@ -311,10 +300,12 @@ pub fn arcs(
 /// One realization along a walk.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Sample {
+    /// The base length λ.
     pub lambda: f64,
+    /// The realization type.
     pub ty: RealizationType,
     /// Joint positions in the display frame.
-    pub positions: Vec<P2<f64>>,
+    pub positions: Vec<Point2<f64>>,
     /// Index of the segment this sample belongs to.
     pub segment: usize,
     /// Set when the sample is a segment's end (an interval endpoint, except at the walk's end).
@@ -331,6 +322,7 @@ pub struct Sample {
 /// budget stopped it, where it jumped, what it skipped, where it failed.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct WalkSummary {
+    /// Samples made.
     pub samples: usize,
     /// Stopped at the sample budget before the end of the walk.
     pub truncated: bool,
@@ -354,7 +346,7 @@ impl WalkSummary {
 /// The diagonal of the points' bounding box: the drawing's extent, the unit
 /// of default steps. Computed on halved coordinates so that drawings near
 /// ±f64::MAX do not overflow; 0 for fewer than two distinct points.
-pub fn bounding_diagonal(points: &[P2<f64>]) -> f64 {
+pub fn bounding_diagonal(points: &[Point2<f64>]) -> f64 {
     let mut lo = [f64::INFINITY; 2];
     let mut hi = [f64::NEG_INFINITY; 2];
     for p in points {
@@ -382,7 +374,7 @@ pub struct Stepper<'a> {
     step: f64,
     seg: usize,
     lambda: f64,
-    last: Option<Vec<P2<f64>>>,
+    last: Option<Vec<Point2<f64>>>,
     delta: f64,
     done: bool,
     budget: usize,
@@ -392,6 +384,7 @@ pub struct Stepper<'a> {
 }
 
 impl<'a> Stepper<'a> {
+    /// A walk over `segments` with joints moving at most `step` (scene units) per sample.
     pub fn new(con: &'a Construction<f64>, linkage: &'a Linkage, segments: Vec<Segment>, step: f64) -> Self {
         let lambda = segments.first().map_or(0.0, |s| s.from);
         let delta = step.max(f64::MIN_POSITIVE);
@@ -422,7 +415,7 @@ impl<'a> Stepper<'a> {
         &self.summary
     }
 
-    fn positions(&self, lambda: f64, ty: &RealizationType) -> Option<Vec<P2<f64>>> {
+    fn positions(&self, lambda: f64, ty: &RealizationType) -> Option<Vec<Point2<f64>>> {
         let s = &self.segments[self.seg];
         realization_at(self.con, self.linkage, &Segment { ty: ty.clone(), ..s.clone() }, lambda)
     }
@@ -499,14 +492,15 @@ impl<'a> Stepper<'a> {
     /// realization there with its largest joint move (`None`: no realization
     /// at the finest resolution).
     #[allow(clippy::type_complexity)]
-    fn search(&self, s: &Segment, mut delta: f64) -> (f64, f64, Option<(Vec<P2<f64>>, f64)>) {
+    fn search(&self, s: &Segment, mut delta: f64) -> (f64, f64, Option<(Vec<Point2<f64>>, f64)>) {
         let remaining = s.to - self.lambda;
         let last = self.last.as_deref().unwrap_or_default();
         loop {
             let target = if delta >= remaining.abs() { s.to } else { self.lambda + delta * remaining.signum() };
             let pos = self.positions(target, &s.ty);
             // Below a few ulps of λ the step cannot shrink: accept, as a jump if it moved too far.
-            let small = delta <= 4.0 * f64::EPSILON * self.lambda.abs().max(self.con.scale);
+            let resolution = crate::tolerance::LAMBDA_RESOLUTION_ULPS * (f64::EPSILON / 2.0);
+            let small = delta <= resolution * self.lambda.abs().max(self.con.scale);
             match pos {
                 Some(pos) => {
                     let moved = max_move(&pos, last);
@@ -527,7 +521,12 @@ impl<'a> Stepper<'a> {
 /// exactly at λ (its base joints coincide, as in a folded rhombus) the limit
 /// is taken by nudging λ toward the segment's interior. `None` when no
 /// realization can be computed there (or it is not finite).
-pub fn realization_at(con: &Construction<f64>, linkage: &Linkage, s: &Segment, lambda: f64) -> Option<Vec<P2<f64>>> {
+pub fn realization_at(
+    con: &Construction<f64>,
+    linkage: &Linkage,
+    s: &Segment,
+    lambda: f64,
+) -> Option<Vec<Point2<f64>>> {
     let inward = if lambda == s.to { s.from - s.to } else { s.to - s.from }.signum();
     let flat: &[usize] = if lambda == s.to {
         &s.flat_to
@@ -538,13 +537,15 @@ pub fn realization_at(con: &Construction<f64>, linkage: &Linkage, s: &Segment, l
     };
     let n = con.steps.len();
     let pos = con.realize_flat(lambda, &s.ty.0, n, flat).ok().or_else(|| {
-        [1e-12, 1e-10, 1e-8].iter().find_map(|e| con.realize(lambda + inward * e * con.scale, &s.ty).ok())
+        crate::tolerance::DEGENERATE_NUDGES
+            .iter()
+            .find_map(|e| con.realize(lambda + inward * e * con.scale, &s.ty).ok())
     })?;
     let shown = to_display(linkage, con.base, &pos);
     shown.iter().all(|p| p[0].is_finite() && p[1].is_finite()).then_some(shown)
 }
 
-fn max_move(a: &[P2<f64>], b: &[P2<f64>]) -> f64 {
+fn max_move(a: &[Point2<f64>], b: &[Point2<f64>]) -> f64 {
     a.iter().zip(b).map(|(p, q)| (p[0] - q[0]).hypot(p[1] - q[1])).fold(0.0, f64::max)
 }
 
@@ -581,6 +582,7 @@ pub struct PathMeasure {
     pub cayley_length: f64,
     /// The longest distance any one joint travels (jumps not counted).
     pub max_joint_travel: f64,
+    /// What the walk met.
     pub walk: WalkSummary,
 }
 
@@ -596,15 +598,15 @@ pub fn measure(
 ) -> PathMeasure {
     let mut travel = vec![0.0; linkage.n_joints()];
     let mut cayley_length = 0.0;
-    let mut prev: Option<(Vec<P2<f64>>, Vec<f64>)> = None;
+    let mut prev: Option<(Vec<Point2<f64>>, Vec<f64>)> = None;
     let mut walk = Stepper::new(con, linkage, segments, step).with_budget(budget);
     for s in walk.by_ref() {
-        let v = crate::distance::cayley_vector(&s.positions, ccv);
+        let v = crate::cayley_vector::cayley_vector(&s.positions, ccv);
         if let (Some((p, w)), false) = (&prev, s.jump) {
             for (t, (a, b)) in travel.iter_mut().zip(p.iter().zip(&s.positions)) {
                 *t += (a[0] - b[0]).hypot(a[1] - b[1]);
             }
-            cayley_length += crate::distance::euclid(w, &v);
+            cayley_length += crate::cayley_vector::euclid(w, &v);
         }
         prev = Some((s.positions, v));
     }

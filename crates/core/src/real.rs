@@ -19,6 +19,7 @@ pub trait Real:
 {
     /// Unit roundoff of the type (half the machine epsilon).
     const UNIT_ROUNDOFF: f64;
+    /// An f64 in this type (exact).
     fn from_f64(x: f64) -> Self;
     /// A double-double input value (a length or coordinate as written) in
     /// this type: rounded for f64, exact for [`Dd`], with its rounding as
@@ -28,9 +29,11 @@ pub trait Real:
     fn to_f64(self) -> f64;
     /// Square root; a negative argument gives NaN, as for f64.
     fn sqrt(self) -> Self;
+    /// Zero.
     fn zero() -> Self {
         Self::from_f64(0.0)
     }
+    /// |x| (NaN stays NaN).
     fn abs(self) -> Self {
         if self < Self::zero() { -self } else { self }
     }
@@ -81,7 +84,9 @@ impl Real for f64 {
 /// error of each operation is a small multiple of 2^-104.
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
 pub struct Dd {
+    /// The leading part: the value rounded to f64.
     pub hi: f64,
+    /// The trailing part: the rounding error of `hi`.
     pub lo: f64,
 }
 
@@ -105,6 +110,7 @@ fn two_prod(a: f64, b: f64) -> (f64, f64) {
 }
 
 impl Dd {
+    /// The double-double equal to the f64 `hi`.
     pub const fn new(hi: f64) -> Self {
         Dd { hi, lo: 0.0 }
     }
@@ -199,8 +205,11 @@ impl Real for Dd {
 /// the value, first and second derivative through every operation.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Jet<T> {
+    /// The value.
     pub v: T,
+    /// The first derivative.
     pub d: T,
+    /// The second derivative.
     pub s: T,
 }
 
@@ -209,6 +218,7 @@ impl<T: Real> Jet<T> {
     pub fn variable(x: T) -> Self {
         Jet { v: x, d: T::from_f64(1.0), s: T::zero() }
     }
+    /// A constant: zero derivatives.
     pub fn constant(x: T) -> Self {
         Jet { v: x, d: T::zero(), s: T::zero() }
     }
@@ -333,10 +343,12 @@ impl Dd {
 /// of `T`'s roundoff times the result), so a sign read from a ball whose
 /// radius is below |m| is proven. Used to decide structural questions (is
 /// a slack positive, zero or negative at an event) without tolerances;
-/// see [`crate::certify`].
+/// see the `certify` module.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Ball<T> {
+    /// The midpoint.
     pub m: T,
+    /// The radius (an upper bound, rounded up).
     pub r: f64,
 }
 
@@ -344,6 +356,7 @@ pub struct Ball<T> {
 const RADIUS_ROUNDING: f64 = 1.0 + 1e-14;
 
 impl<T: Real> Ball<T> {
+    /// The ball of radius 0 around `m` (an exactly known value).
     pub fn exact(m: T) -> Self {
         Ball { m, r: 0.0 }
     }

@@ -9,10 +9,25 @@ use std::fmt;
 
 use crate::decompose::{ClusterSet, Decomposition, Origin};
 use crate::linkage::Linkage;
-use crate::real::Real;
+use crate::real::{Jet, Real};
 use crate::tolerance;
 
+/// A point `[x, y]` of the generic-scalar construction. Not nalgebra's
+/// [`Point2`]: that needs `T: Scalar` (and `RealField` for its geometry),
+/// which the double-double, jet and ball types here do not implement, and
+/// this code runs in all four of f64, [`crate::real::Dd`], [`Jet`] and
+/// [`crate::real::Ball`]. Positions handed to callers in f64 are
+/// [`Point2`]s ([`to_display`], [`points`]).
 pub type P2<T> = [T; 2];
+
+/// The type of the f64 joint positions handed to callers (re-exported, so
+/// callers need not depend on nalgebra's version themselves).
+pub use nalgebra::Point2;
+
+/// Base-frame f64 positions (as [`Construction::realize`] gives them) as points.
+pub fn points(pos: &[P2<f64>]) -> Vec<Point2<f64>> {
+    pos.iter().map(|&p| Point2::from(p)).collect()
+}
 
 fn sub<T: Real>(p: P2<T>, q: P2<T>) -> P2<T> {
     [p[0] - q[0], p[1] - q[1]]
@@ -37,6 +52,7 @@ fn unit<T: Real>(p: P2<T>) -> P2<T> {
 pub struct RealizationType(pub Vec<bool>);
 
 impl RealizationType {
+    /// Parse a string of `+` and `-`; `None` for any other character.
     pub fn parse(text: &str) -> Option<Self> {
         text.chars()
             .map(|c| match c {
@@ -76,19 +92,105 @@ impl fmt::Display for RealizationType {
     }
 }
 
+/// A realization named by type and base length.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Realization {
+    /// Its realization type.
+    pub ty: RealizationType,
+    /// Its base length λ (scene units).
+    pub lambda: f64,
+}
+
+impl Realization {
+    /// Parse `TYPE@LAMBDA`, e.g. `-+-+@41.2`.
+    pub fn parse(text: &str) -> Result<Self, String> {
+        let (ty, lambda) =
+            text.split_once('@').ok_or_else(|| format!("\"{text}\": expected TYPE@LAMBDA, e.g. -+-+@41.2"))?;
+        let ty = RealizationType::parse(ty.trim()).ok_or_else(|| format!("\"{ty}\": a type is a string of + and -"))?;
+        let lambda: f64 = lambda.trim().parse().map_err(|_| format!("\"{lambda}\": not a number"))?;
+        if !lambda.is_finite() {
+            return Err(format!("\"{lambda}\": not a finite number"));
+        }
+        Ok(Realization { ty, lambda })
+    }
+}
+
+impl std::fmt::Display for Realization {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}@{}", self.ty, self.lambda)
+    }
+}
+
+/// How a step is flat at an endpoint.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Kind {
+    /// d = r1 + r2
+    Stretched,
+    /// d = |r1 − r2|
+    Folded,
+}
+
+impl Kind {
+    /// `stretched` or `folded`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Kind::Stretched => "stretched",
+            Kind::Folded => "folded",
+        }
+    }
+
+    /// The base distance at which a step with sides r1, r2 is flat this way.
+    pub fn target<T: Real>(self, r1: T, r2: T) -> T {
+        match self {
+            Kind::Stretched => r1 + r2,
+            Kind::Folded => (r1 - r2).abs(),
+        }
+    }
+
+    /// The step's slack for this kind at base distance `d` (a jet, so with
+    /// its slope and curvature): positive where this side of the triangle closes.
+    pub fn slack<T: Real>(self, r1: T, r2: T, d: Jet<T>) -> Jet<T> {
+        self.slack_value(Jet::constant(r1), Jet::constant(r2), d)
+    }
+
+    /// [`Self::slack`] in any arithmetic.
+    pub fn slack_value<T: Real>(self, r1: T, r2: T, d: T) -> T {
+        let t = self.target(r1, r2);
+        match self {
+            Kind::Stretched => t - d,
+            Kind::Folded => d - t,
+        }
+    }
+}
+
+/// Step `step` is flat (`kind`) at an endpoint.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct Event {
+    /// The flat step (0-based).
+    pub step: usize,
+    /// How it is flat.
+    pub kind: Kind,
+}
+
 /// A cluster joint placed from a step's frame (p, q): `j = p + α(q−p) + β·perp(q−p)`.
 #[derive(Debug, Clone)]
 pub struct Member<T> {
+    /// The joint placed.
     pub joint: usize,
+    /// Its coordinate along q − p, in units of |q − p|.
     pub alpha: T,
+    /// Its coordinate along perp(q − p), in units of |q − p|.
     pub beta: T,
 }
 
 /// One step's fixed geometry.
 #[derive(Debug, Clone)]
 pub struct StepGeom<T> {
+    /// v_k: the joint the step places.
     pub vertex: usize,
+    /// u_k: the base joint on the first cluster.
     pub u: usize,
+    /// w_k: the base joint on the second cluster.
     pub w: usize,
     /// |u v| inside the cluster on u.
     pub r1: T,
@@ -96,14 +198,18 @@ pub struct StepGeom<T> {
     pub r2: T,
     /// Other joints of the cluster on u, placed from (u, v); likewise for w.
     pub members_u: Vec<Member<T>>,
+    /// Other joints of the cluster on w, placed from (w, v).
     pub members_w: Vec<Member<T>>,
 }
 
 /// The construction with every length computed in `T` from the scene's numbers.
 #[derive(Debug, Clone)]
 pub struct Construction<T> {
+    /// The number of joints.
     pub n_joints: usize,
+    /// The base non-edge f = (a, b).
     pub base: [usize; 2],
+    /// The construction steps, in order.
     pub steps: Vec<StepGeom<T>>,
     /// Scene scale (see [`crate::tolerance`]).
     pub scale: f64,
@@ -115,9 +221,17 @@ pub struct Construction<T> {
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Unrealizable {
     /// Step `step`'s triangle cannot close: slack (negative) in scene units.
-    Infeasible { step: usize, slack: f64 },
+    Infeasible {
+        /// The step (0-based).
+        step: usize,
+        /// Its slack (negative), scene units.
+        slack: f64,
+    },
     /// Step `step`'s base joints coincide: its vertex is undetermined.
-    Degenerate { step: usize },
+    Degenerate {
+        /// The step (0-based).
+        step: usize,
+    },
 }
 
 /// The stated lengths cannot form a cluster (a sketch whose numbers contradict).
@@ -192,6 +306,7 @@ fn shape_pos<T: Real>(shape: &Shape<T>, joint: usize) -> P2<T> {
 
 /// Converts one construction's numbers into another scalar type.
 impl Construction<f64> {
+    /// The same construction with its numbers rounded to `U`.
     pub fn convert<U: Real>(&self) -> Construction<U> {
         let c = |x: f64| U::from_f64(x);
         let members = |list: &Vec<Member<f64>>| {
@@ -432,11 +547,15 @@ impl<T: Real> Construction<T> {
 /// The drawn realization's (λ, type), and the steps that are flat in the drawing.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Drawn {
+    /// The drawn base length λ.
     pub lambda: f64,
+    /// The drawn realization type.
     pub ty: RealizationType,
+    /// Steps whose triangle is flat in the drawing (their bit is then a choice).
     pub flat_steps: Vec<usize>,
 }
 
+/// The drawn realization's (λ, type), read from the drawing.
 pub fn drawn_realization(linkage: &Linkage, dec: &Decomposition) -> Drawn {
     let p = &linkage.drawn;
     let lambda = crate::linkage::dist(p[dec.base[0]], p[dec.base[1]]);
@@ -460,7 +579,7 @@ pub fn drawn_realization(linkage: &Linkage, dec: &Decomposition) -> Drawn {
 /// The display frame: a rigid motion that keeps the ground joints where the
 /// scene drew them (one ground joint: it stays put and the base keeps its
 /// drawn direction).
-pub fn to_display(linkage: &Linkage, base: [usize; 2], pos: &[P2<f64>]) -> Vec<P2<f64>> {
+pub fn to_display(linkage: &Linkage, base: [usize; 2], pos: &[P2<f64>]) -> Vec<Point2<f64>> {
     let g = &linkage.ground;
     let (r0, r1, d0, d1) = if g.len() >= 2 {
         (pos[g[0]], pos[g[1]], linkage.drawn[g[0]], linkage.drawn[g[1]])
@@ -481,24 +600,25 @@ pub fn to_display(linkage: &Linkage, base: [usize; 2], pos: &[P2<f64>]) -> Vec<P
     pos.iter()
         .map(|&x| {
             let r = sub(x, r0);
-            [d0[0] + c * r[0] - s * r[1], d0[1] + s * r[0] + c * r[1]]
+            Point2::new(d0[0] + c * r[0] - s * r[1], d0[1] + s * r[0] + c * r[1])
         })
         .collect()
 }
 
 /// Largest |length − bar length| over all bars, and over all body edges
 /// against their drawn shape, in scene units.
-pub fn bar_residual(linkage: &Linkage, pos: &[P2<f64>]) -> f64 {
+pub fn bar_residual(linkage: &Linkage, pos: &[Point2<f64>]) -> f64 {
+    let at = |j: usize| -> P2<f64> { pos[j].into() };
     let mut worst: f64 = 0.0;
     for bar in &linkage.bars {
-        let l = norm(sub(pos[bar.joints[1]], pos[bar.joints[0]]));
+        let l = norm(sub(at(bar.joints[1]), at(bar.joints[0])));
         worst = worst.max((l - bar.length).abs());
     }
     for body in &linkage.bodies {
         for (i, &p) in body.iter().enumerate() {
             for &q in &body[i + 1..] {
                 let drawn = norm(sub(linkage.drawn[q], linkage.drawn[p]));
-                worst = worst.max((norm(sub(pos[q], pos[p])) - drawn).abs());
+                worst = worst.max((norm(sub(at(q), at(p))) - drawn).abs());
             }
         }
     }

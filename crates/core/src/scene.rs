@@ -18,10 +18,13 @@ use toml::de::{DeArray, DeString, DeTable, DeValue};
 /// A joint as drawn: its name, position (y up) and the 1-based line it was declared on.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Joint {
+    /// The joint's name, as in the file.
     pub name: String,
+    /// Its drawn position (scene units, y up).
     pub pos: [f64; 2],
     /// The coordinates as written, in double-double (`pos` is them rounded).
     pub exact: [Dd; 2],
+    /// The 1-based line it is declared on.
     pub line: usize,
 }
 
@@ -29,29 +32,39 @@ pub struct Joint {
 /// stated length when the file gives one; otherwise the drawn distance is meant.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Bar {
+    /// The two joints (indices into `Scene::joints`).
     pub joints: [usize; 2],
+    /// The stated length, if any (scene units).
     pub length: Option<f64>,
     /// The stated length as written, in double-double.
     pub exact_length: Option<Dd>,
+    /// The 1-based line it is declared on.
     pub line: usize,
 }
 
 /// A rigid body of three or more joints whose shape is the drawn one.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Body {
+    /// Its joints (indices into `Scene::joints`).
     pub joints: Vec<usize>,
+    /// The 1-based line it is declared on.
     pub line: usize,
 }
 
 /// A validated scene. Indices always refer to `joints`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Scene {
+    /// The scene's name (from the file, else the default its reader was given).
     pub name: String,
+    /// Its description, if the file gives one.
     pub description: Option<String>,
     /// Where the scene came from, as shown in error messages (a path, or `bundled:NAME`).
     pub source: String,
+    /// The joints, in file order.
     pub joints: Vec<Joint>,
+    /// The bars, in file order.
     pub bars: Vec<Bar>,
+    /// The rigid bodies, in file order.
     pub bodies: Vec<Body>,
     /// The requested base non-edge and the line it was given on.
     pub base: Option<([usize; 2], usize)>,
@@ -62,9 +75,13 @@ pub struct Scene {
 /// A scene that could not be read, with where the problem is.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SceneError {
+    /// The file (or source) the error is in.
     pub file: String,
+    /// The 1-based line, when known.
     pub line: Option<usize>,
+    /// The 1-based column, when known.
     pub column: Option<usize>,
+    /// What is wrong, as a sentence.
     pub message: String,
 }
 
@@ -409,7 +426,7 @@ fn parse_joint(doc: &Doc, key: &Spanned<DeString>, value: &Value) -> Result<Join
 }
 
 /// Half the scene's scale, as the solver defines it
-/// ([`crate::linkage::Linkage::scale`]): the longest bar (stated length, else
+/// (`Linkage::scale`): the longest bar (stated length, else
 /// drawn) or body span. Halved so that drawings near ±f64::MAX stay finite.
 fn half_scale(joints: &[Joint], bars: &[Bar], bodies: &[Body]) -> f64 {
     let half_dist = |a: usize, b: usize| half_distance(joints[a].pos, joints[b].pos);
@@ -425,15 +442,11 @@ fn half_distance(p: [f64; 2], q: [f64; 2]) -> f64 {
     (p[0] / 2.0 - q[0] / 2.0).hypot(p[1] / 2.0 - q[1] / 2.0)
 }
 
-/// Whether two points are drawn at the same point: exactly equal, within
-/// [`crate::tolerance::COINCIDENT`] × the scene's scale, or closer than the
-/// drawing can resolve ([`crate::tolerance::DRAWN_RESOLUTION_ULPS`] units in
-/// the last place of their coordinates).
+/// Whether two points are drawn at the same point: exactly equal, or the
+/// same to [`crate::tolerance::same_drawn_point`].
 fn same_point(p: [f64; 2], q: [f64; 2], half_scale: f64) -> bool {
-    let d = half_distance(p, q);
-    let magnitude = p.iter().chain(&q).fold(0.0f64, |m, x| m.max(x.abs())) / 2.0;
-    let resolution = crate::tolerance::DRAWN_RESOLUTION_ULPS * f64::EPSILON * magnitude;
-    p == q || d <= crate::tolerance::COINCIDENT * half_scale || d <= resolution
+    let half_magnitude = p.iter().chain(&q).fold(0.0f64, |m, x| m.max(x.abs())) / 2.0;
+    p == q || crate::tolerance::same_drawn_point(half_distance(p, q), half_magnitude, half_scale)
 }
 
 /// No two joints may be drawn at the same point (see [`same_point`]): the

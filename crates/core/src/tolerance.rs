@@ -1,5 +1,5 @@
 //! Every tolerance of the solver, in one place. All are relative to the scene's
-//! [scale](crate::linkage::Linkage::scale) (its longest bar or rigid-body span),
+//! scale (`Linkage::scale`: its longest bar or rigid-body span),
 //! so a scene scaled by 1e3 or 1e-3 gives the same answers scaled.
 
 /// Two drawn points closer than this (× scale) are the same point.
@@ -25,16 +25,20 @@ pub fn tangent_slope(unit_roundoff: f64) -> f64 {
     1e-10 * (unit_roundoff / (f64::EPSILON / 2.0)).sqrt()
 }
 
-/// A candidate λ is accepted as a root of `d_k(λ) = t` when the Newton
-/// correction |g/g'| is below this (× scale), or |g| itself is below
-/// [`ROOT_VALUE`] (× scale), which covers tangent roots where g' vanishes.
+/// The lazy walk halves a gap between its samples down to this width
+/// (× scale), and accepts an end once it lies within this of the sample
+/// before it: far below any feature a user draws, far above f64 resolution.
 pub const ROOT_STEP: f64 = 1e-9;
+
+/// An extremum of a slack (or of g = d_k − t) within this (× scale) of zero
+/// is a touch: a tangent (double) root, noted as such (`roots::Extremum`); two
+/// roots that close together are not separated at f64 precision.
 pub const ROOT_VALUE: f64 = 1e-12;
 
 /// The lazy walk recognises an interval end it computed before (same type,
 /// side and flat steps) within this (× scale): its own root found twice, not
 /// a question about the mechanism. Whether two different events coincide is
-/// never decided by a tolerance: see [`crate::certify`].
+/// never decided by a tolerance: see the `certify` module.
 pub const EVENTS_COINCIDE: f64 = 1e-11;
 
 /// Intervals of the non-oriented Cayley space closer than this (× scale) are joined.
@@ -59,6 +63,22 @@ pub const DEFAULT_STEP_FRACTION: f64 = 0.01;
 /// Default step of the terminal UI's arrow keys (× the drawing's diagonal).
 pub const TUI_STEP_FRACTION: f64 = 1.0 / 60.0;
 
+/// The terminal UI's arrow-key step is never halved below this (× the drawing's diagonal).
+pub const TUI_MIN_STEP_FRACTION: f64 = 1e-6;
+
+/// The terminal UI's "go to λ" accepts a λ this far (× scale) outside a
+/// segment of the current motion as on it (a λ typed from a printed end).
+pub const TUI_GOTO_MARGIN: f64 = 1e-12;
+
+/// `bench` matches a method's interval to the reference's when they overlap
+/// to within this (× scale): far wider than any error it then reports.
+pub const BENCH_MATCH_SLACK: f64 = 1e-6;
+
+/// The fixed absolute tolerance of the classic baseline `bench` measures
+/// (CayMos's approach, THEORY.md §6): deliberately not scaled, as the
+/// baseline does it; never used by the analysis itself.
+pub const CLASSIC_ABSOLUTE_TOL: f64 = 1e-4;
+
 /// Step of the terminal UI's traces and Cayley curve (× the drawing's diagonal).
 pub const TUI_TRACE_STEP_FRACTION: f64 = 1.0 / 150.0;
 
@@ -80,6 +100,7 @@ pub const SVG_POINT_GAP_FRACTION: f64 = 5e-4;
 /// The terminal UI keeps at most this many numbers (positions and Cayley
 /// vectors) of the current motion, and at most [`TUI_MAX_SAMPLES`] samples.
 pub const TUI_MAX_NUMBERS: usize = 4_000_000;
+/// See [`TUI_MAX_NUMBERS`]: the terminal UI's sample cap per motion.
 pub const TUI_MAX_SAMPLES: usize = 20_000;
 
 /// A walk that meets more than this many jumps in one segment (joints moving
@@ -98,4 +119,163 @@ pub const DRAWN_RESOLUTION_ULPS: f64 = 8.0;
 /// this many prefixes of types are tried, and at most
 /// [`LAZY_MAX_NEW_COMPONENTS`] components walked, per request.
 pub const LAZY_SEED_PROBES: usize = 1 << 16;
+/// See [`LAZY_SEED_PROBES`]: at most this many components walked per request.
 pub const LAZY_MAX_NEW_COMPONENTS: usize = 256;
+
+/// Bisection and Newton iterations of the root finder stop after this many
+/// steps: a bracket halves each time, so 200 exhaust any f64 or
+/// double-double range; a bound on work, never reached in practice.
+pub const ROOT_MAX_ITERATIONS: usize = 200;
+
+/// A Newton step at x of at most this many units of the scalar type's
+/// roundoff × |x| has converged: the step is rounding noise (root finder,
+/// and the double-double re-location of an end in `certify`).
+pub const NEWTON_CONVERGED_ULPS: f64 = 4.0;
+
+/// The numeric root search splits a gap at an inflection (or halves it) at
+/// most this many times: below 2^-40 of a gap the sample spacing holds no
+/// more structure than f64 resolves. A bound on work.
+pub const ROOT_MAX_SPLITS: u32 = 40;
+
+/// An inflection of d_k found within this fraction of a gap's width from
+/// its end belongs to that end (a previous split put it there): the gap is
+/// not split again there.
+pub const INFLECTION_AT_END: f64 = 1e-6;
+
+/// Where step k is proven flat at a piece end, a root candidate within this
+/// many units of roundoff × |λ| of that end is the same root computed
+/// another way (the closed form and the end's own λ differ by rounding).
+pub const SAME_ROOT_ULPS: f64 = 8.0;
+
+/// Two closed-form candidates within this many units of roundoff × |λ| of
+/// each other are one candidate reached along two branches of the inversion.
+pub const SAME_CANDIDATE_ULPS: f64 = 4.0;
+
+/// The closed-form inversion clamps 1 ∓ cos down to −this many units of
+/// roundoff to 0 (dimensionless: a ratio of lengths): rounding at an
+/// exactly flat triangle, not an infeasible one.
+pub const INVERT_CLAMP_ULPS: f64 = 64.0;
+
+/// λ is resolved in f64 to this many units of roundoff of max(|λ|, scale):
+/// the smallest λ step a walk takes, and the first half-width tried for a
+/// proven bracket around an interval end (`certify`, `enclosure`).
+pub const LAMBDA_RESOLUTION_ULPS: f64 = 8.0;
+
+/// An interval end is searched for a proven bracket up to this half-width
+/// (× scale), growing by [`END_BRACKET_GROWTH`] from
+/// [`LAMBDA_RESOLUTION_ULPS`]: a bound on work, not a decision. An end
+/// placed worse than this stays unproven (and is said so).
+pub const END_BRACKET_MAX: f64 = 1e-6;
+
+/// Factor by which the bracket half-width grows between tries in `certify`.
+pub const END_BRACKET_GROWTH: f64 = 16.0;
+
+/// Factor by which the bracket half-width grows between tries in
+/// `enclosure` (interval arithmetic, cheaper per try than `certify`'s balls).
+pub const ENCLOSURE_BRACKET_GROWTH: f64 = 4.0;
+
+/// A proven bracket's radius is widened by this relative margin, so that
+/// rounding of λ ± δ keeps both tried ends inside the ball.
+pub const BRACKET_RADIUS_MARGIN: f64 = 1e-12;
+
+/// A slack whose ball at an end's centre is already this wide (× scale)
+/// cannot prove a sign change within any bracket tried: the search is skipped.
+pub const BALL_TOO_WIDE: f64 = 1e-8;
+
+/// Newton steps that re-locate an end in double-double from its f64 value
+/// (each doubles the correct digits: 6 go far beyond double-double's 32).
+pub const DD_NEWTON_STEPS: usize = 6;
+
+/// A double-double Newton step longer than this (× scale) is not a
+/// refinement of an end located in f64: the re-location stops there.
+pub const DD_NEWTON_MAX_STEP: f64 = 1e-6;
+
+/// Double-double balls are about u_dd/u_f64 of the f64 ones wide; they are
+/// skipped where even this many times that would not exclude zero.
+pub const DD_BALL_SHRINK_MARGIN: f64 = 16.0;
+
+/// A sign the balls could not prove is decided by the double-double value
+/// when it exceeds its error, estimated as the f64 − double-double
+/// difference scaled to double-double precision times this margin (2^10) …
+pub const ESTIMATE_MARGIN: f64 = 1024.0;
+
+/// … plus this many units of double-double roundoff × scale (a floor for a
+/// difference that happens to vanish).
+pub const ESTIMATE_FLOOR_ULPS: f64 = 64.0;
+
+/// A start that may be an isolated point is tested on both sides at this
+/// offset (× scale): far above double-double resolution, far below any
+/// feature a user draws.
+pub const ISOLATED_SIDE_OFFSET: f64 = 1e-9;
+
+/// The lazy walk refines a gap whose slack it cannot certify by sampling all
+/// steps at once down to this width (× scale), then by that slack's own search.
+pub const WELL_SAMPLED_COARSE: f64 = 1e-7;
+
+/// A gap is well sampled when each slack's quadratic Taylor model from one
+/// end predicts its value at the other to within this fraction of the slack's
+/// mean size there.
+pub const MODEL_MARGIN: f64 = 0.25;
+
+/// A slack within this many units of roundoff × scale below zero at a near
+/// tangency is rounding, not a crossing (lazy walk).
+pub const TANGENCY_NOISE_ULPS: f64 = 64.0;
+
+/// The lazy walk's geometric approach to an end: each sample this factor
+/// closer than the previous …
+pub const APPROACH_RATIO: f64 = 8.0;
+
+/// … and at most this many of them (8^-24 of a gap is below f64's resolution).
+pub const APPROACH_MAX_SAMPLES: usize = 24;
+
+/// Where a step degenerates exactly at λ (its base joints coincide), the
+/// realization's limit is taken at λ nudged toward the segment's interior by
+/// the first of these (× scale) that realizes.
+pub const DEGENERATE_NUDGES: [f64; 3] = [1e-12, 1e-10, 1e-8];
+
+/// A cluster is achiral (its mirror image is itself moved) when every
+/// joint's cross product with its first edge is below this × the edge's
+/// squared length: all its joints on a line.
+pub const COLLINEAR: f64 = 1e-12;
+
+/// The relative gap the closest pair is certified to by default
+/// (`closest --gap`): upper − lower ≤ gap × upper.
+pub const DEFAULT_GAP: f64 = 1e-9;
+
+/// A closest-pair piece is saturated (splitting it cannot sharpen a bound)
+/// when its vector's spread over the piece is at most this × its own rounding
+/// width at the centre.
+pub const SATURATION_FACTOR: f64 = 4.0;
+
+/// The second-order bound caps |h_ab| at √(h_aa h_bb)(1 − this): a relative
+/// margin that keeps the determinant provably ≥ 0 after rounding.
+pub const CONVEX_CAP_MARGIN: f64 = 1e-9;
+
+/// Gauss–Newton polishing of the best pair is damped by this × the trace of
+/// JᵀJ (Levenberg), enough to keep a singular step finite.
+pub const POLISH_DAMPING: f64 = 1e-12;
+
+/// Gauss–Newton polishing shortens a step that did not improve the best
+/// pair by this factor …
+pub const POLISH_SHRINK: f64 = 4.0;
+
+/// … and stops once the step is below this fraction of a full one.
+pub const POLISH_MIN_STEP: f64 = 0.01;
+
+/// The enclosure near an end switches from the direct √S to the anchored
+/// form when t is within this fraction of the box's far end …
+pub const NEAR_END_FRACTION: f64 = 0.25;
+
+/// … or when √S's enclosure is wider than this × its lower bound (loose
+/// next to the end). Either form is sound: this only saves work.
+pub const LOOSE_ENCLOSURE: f64 = 1e-6;
+
+/// Whether two drawn points are the same point: exactly equal, within
+/// [`COINCIDENT`] × the scene's scale, or closer than the drawing can resolve
+/// ([`DRAWN_RESOLUTION_ULPS`] units in the last place of their coordinates).
+/// All three arguments are halved (so that drawings near ±f64::MAX stay
+/// finite): the points' distance, their largest |coordinate|, the scale.
+pub fn same_drawn_point(half_distance: f64, half_magnitude: f64, half_scale: f64) -> bool {
+    let resolution = DRAWN_RESOLUTION_ULPS * f64::EPSILON * half_magnitude;
+    half_distance <= COINCIDENT * half_scale || half_distance <= resolution
+}

@@ -1,0 +1,195 @@
+//! The root finder's parts, shared by the exhaustive sweep (`cayley_space`)
+//! and the lazy walk (`lazy`): both look for the λ at which a step's slack
+//! reaches zero (THEORY.md §2), and both need
+//! - the interval ends they find, with ids shared across types ([`Endpoint`], [`EndpointIds`]);
+//! - the cosine-spaced sample grid ([`cosine_sample`]);
+//! - d_k(λ) with its slope and curvature for a type prefix ([`base_distance_jet`]);
+//! - bracketed root finding: [`bisect`] on a sign, [`newton`] safeguarded by its bracket;
+//! - what the jets say at a root: the slack's sign on either side ([`side_signs`]), and
+//!   whether an extremum of the slack is a touch ([`Extremum`]).
+//!
+//! Generic over the scalar type, so that a double-double run is the reference.
+
+use std::cmp::Ordering;
+
+use crate::real::{Jet, Real};
+use crate::realize::{Construction, Event};
+use crate::tolerance;
+
+/// An interval end: its λ, the flat steps there (one in a generic scene),
+/// and an id shared by every type whose interval ends at this same root.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Endpoint<T> {
+    /// The base length λ of the end (scene units).
+    pub lambda: T,
+    /// The steps flat there; empty at an end that is no root (the start of a search).
+    pub events: Vec<Event>,
+    /// Equal for the ends of two types that meet at this root.
+    pub id: usize,
+}
+
+/// Hands out endpoint ids: one per root found, counting from 1.
+#[derive(Clone, Debug, Default)]
+pub struct EndpointIds {
+    last: usize,
+}
+
+impl EndpointIds {
+    /// A new endpoint at `lambda` with the flat steps `events`, under a fresh id.
+    pub fn make<T>(&mut self, lambda: T, events: Vec<Event>) -> Endpoint<T> {
+        self.last += 1;
+        Endpoint { lambda, events, id: self.last }
+    }
+}
+
+/// Sample `i` of `n` (i = 0..=n) from `from` toward `to`:
+/// from + (to − from)(1 − cos(πi/n))/2, dense near both ends, where d_k
+/// behaves like a square root. Sample n is computed like the others, so it
+/// may differ from `to` by rounding: a caller that must land on `to` uses it.
+pub fn cosine_sample<T: Real>(from: T, to: T, i: usize, n: usize) -> T {
+    let c = (std::f64::consts::PI * i as f64 / n as f64).cos();
+    from + (to - from) * T::from_f64(0.5) * T::from_f64(1.0 - c)
+}
+
+/// Step `k`'s base distance d_k at λ for the type prefix `bits` (at least
+/// `k` bits), with its first and second derivative in λ; `None` where an
+/// earlier step cannot close or the distance is not finite.
+pub fn base_distance_jet<T: Real>(jet: &Construction<Jet<T>>, bits: &[bool], k: usize, lambda: T) -> Option<Jet<T>> {
+    let pos = jet.realize_prefix(Jet::variable(lambda), bits, k).ok()?;
+    let d = jet.base_distance(&pos, k);
+    d.v.to_f64().is_finite().then_some(d)
+}
+
+/// The sign of `x` as −1, 0 or +1 (0 for zero and NaN).
+pub fn sign<T: Real>(x: T) -> i8 {
+    if x > T::zero() {
+        1
+    } else if x < T::zero() {
+        -1
+    } else {
+        0
+    }
+}
+
+/// A total order for sorting λ values (NaN compares equal to everything).
+pub fn cmp<T: Real>(a: &T, b: &T) -> Ordering {
+    a.partial_cmp(b).unwrap_or(Ordering::Equal)
+}
+
+/// Whether `x` lies strictly between `a` and `b` (in either order).
+pub fn between<T: Real>(x: T, a: T, b: T) -> bool {
+    (x > a && x < b) || (x > b && x < a)
+}
+
+/// Signs of a slack just left and right of a root (−1, 0 or +1), read
+/// from its jet there: from its slope, or at a tangency (slope below
+/// [`tolerance::tangent_slope`] for `T`) from its curvature, the same on
+/// both sides.
+pub fn side_signs<T: Real>(slack: Jet<T>) -> (i8, i8) {
+    let slope_tol = T::from_f64(tolerance::tangent_slope(T::UNIT_ROUNDOFF));
+    if slack.d.abs() > slope_tol {
+        (-sign(slack.d), sign(slack.d))
+    } else {
+        let c = sign(slack.s);
+        (c, c)
+    }
+}
+
+/// Where the value of a function at its extremum lies against zero, with
+/// `touch` the root finder's resolution ([`tolerance::ROOT_VALUE`] × scale).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Extremum {
+    /// Above `touch`.
+    Above,
+    /// Within `touch` of zero: a tangent (double) root. Unless `exact` (the
+    /// value is zero), two roots and none cannot be told apart there.
+    Touch {
+        /// The value is exactly zero.
+        exact: bool,
+    },
+    /// Below `-touch`, or not a number.
+    Below,
+}
+
+impl Extremum {
+    /// Classify the value `v` at an extremum against the resolution `touch` (≥ 0).
+    pub fn of<T: Real>(v: T, touch: T) -> Extremum {
+        if v > touch {
+            Extremum::Above
+        } else if v >= -touch {
+            Extremum::Touch { exact: v == T::zero() }
+        } else {
+            Extremum::Below
+        }
+    }
+}
+
+/// Bisection on a sign function with different signs at `a` and `b`, until
+/// the bracket is no wider than `stop` (zero: to full precision, at most
+/// [`tolerance::ROOT_MAX_ITERATIONS`] halvings). The midpoint of the last bracket.
+pub fn bisect<T: Real>(mut a: T, mut b: T, stop: T, f: impl Fn(T) -> Option<i8>) -> T {
+    let sa = f(a).unwrap_or(0);
+    for _ in 0..tolerance::ROOT_MAX_ITERATIONS {
+        if b - a <= stop {
+            break;
+        }
+        let m = (a + b) / T::from_f64(2.0);
+        if !(m > a && m < b) {
+            break;
+        }
+        match f(m) {
+            Some(0) => return m,
+            Some(s) if s == sa => a = m,
+            _ => b = m,
+        }
+    }
+    (a + b) / T::from_f64(2.0)
+}
+
+/// A root of g between a (g > 0) and b (g ≤ 0, or undefined): Newton steps
+/// from g's value and derivative (`f` gives both, in λ) while they stay
+/// inside the shrinking bracket, bisection otherwise; to full precision
+/// (a step within [`tolerance::NEWTON_CONVERGED_ULPS`] of x). The point of least
+/// |g| seen when the iterations run out.
+pub fn newton<T: Real>(a: T, b: T, f: impl Fn(T) -> Option<(T, T)>) -> T {
+    let (mut pos, mut neg) = (a, b);
+    let two = T::from_f64(2.0);
+    let mut x = (a + b) / two;
+    let mut best = (x, T::from_f64(f64::INFINITY));
+    for _ in 0..tolerance::ROOT_MAX_ITERATIONS {
+        let Some((g, dg)) = f(x) else {
+            neg = x;
+            x = (pos + neg) / two;
+            if !between(x, pos, neg) {
+                break;
+            }
+            continue;
+        };
+        if g.abs() < best.1 {
+            best = (x, g.abs());
+        }
+        if g == T::zero() {
+            return x;
+        }
+        if g > T::zero() {
+            pos = x;
+        } else {
+            neg = x;
+        }
+        let step = g / dg;
+        let next = x - step;
+        if between(next, pos, neg) && step.to_f64().is_finite() {
+            if step.abs() <= T::from_f64(tolerance::NEWTON_CONVERGED_ULPS * T::UNIT_ROUNDOFF) * x.abs() {
+                return next;
+            }
+            x = next;
+        } else {
+            let mid = (pos + neg) / two;
+            if !between(mid, pos, neg) {
+                break;
+            }
+            x = mid;
+        }
+    }
+    best.0
+}
