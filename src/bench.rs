@@ -21,7 +21,7 @@ use crate::report::{fmt_num, fmt_sci, write_table};
 /// One interval as (type, lower, upper), the common currency of the comparison.
 type Span = (RealizationType, f64, f64);
 
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, schemars::JsonSchema)]
 pub struct MethodRow {
     pub scene: String,
     pub method: String,
@@ -34,7 +34,7 @@ pub struct MethodRow {
     pub spurious: usize,
 }
 
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, schemars::JsonSchema)]
 pub struct StepRow {
     pub scene: String,
     /// Step bound as a fraction of the drawing's extent (bounding-box diagonal).
@@ -52,7 +52,7 @@ pub struct StepRow {
 }
 
 /// The lazy walk on a generated family member (`caymos bench --scaling`).
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, schemars::JsonSchema)]
 pub struct ScalingRow {
     pub family: String,
     pub steps: usize,
@@ -71,13 +71,13 @@ pub struct ScalingRow {
 }
 
 /// A scene that was not benchmarked, and why.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, schemars::JsonSchema)]
 pub struct Skipped {
     pub scene: String,
     pub reason: String,
 }
 
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, schemars::JsonSchema)]
 pub struct BenchReport {
     pub repeat: usize,
     pub methods: Vec<MethodRow>,

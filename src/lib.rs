@@ -14,5 +14,7 @@ pub mod builder;
 pub mod bundled;
 pub mod commands;
 pub mod generate;
+pub mod present;
 pub mod report;
+pub mod schema;
 pub mod tui;

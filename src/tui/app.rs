@@ -133,10 +133,11 @@ impl App {
             Err(message) => Screen::Failed { scene, message },
             Ok(a) => match a.outcome.clone() {
                 Err(outside) => {
-                    let message = format!("outside the handled class: {}", outside.describe(&a.linkage));
+                    let message =
+                        format!("outside the handled class: {}", crate::present::outside(&outside, &a.linkage));
                     Screen::Failed { scene: a.scene.name.clone(), message }
                 }
-                Ok(solved) => match commands::no_realization(&a, &solved) {
+                Ok(solved) => match commands::require_component(&a.linkage, &solved).err() {
                     Some(why) => Screen::Empty { analysis: Box::new(a), why },
                     None => Screen::Ready(Box::new(Model::new(a, solved))),
                 },
@@ -430,7 +431,7 @@ impl Model {
                 if action == Action::NextComponent && self.solved.lazy && self.component + 1 == self.n_components() {
                     let before = self.n_components();
                     if commands::walk_components(&mut self.solved, before + 1) == before {
-                        note = Some(commands::missing_component(&self.solved, before));
+                        note = Some(crate::present::missing_component(&self.solved, before));
                     }
                 }
                 let n = self.n_components();
@@ -553,7 +554,7 @@ impl Model {
         let [Some(a), Some(b)] = &self.marks else { return Ok(()) };
         let (an, s) = (&self.analysis, &self.solved);
         let walk = Walk { step: self.step, max_samples: tolerance::TUI_MAX_SAMPLES };
-        let report = commands::path(an, s, &a.at.to_string(), &b.at.to_string(), walk)?;
+        let report = commands::path(&an.linkage, s, &a.at.to_string(), &b.at.to_string(), walk)?;
         if report.same_component {
             let ia = locate(&s.space, &a.at, an.linkage.scale).ok_or("A is no longer located")?;
             let ib = locate(&s.space, &b.at, an.linkage.scale).ok_or("B is no longer located")?;
@@ -570,7 +571,7 @@ impl Model {
         if text.contains('@') || text == "drawn" {
             commands::include_specs(&mut self.solved, &[text]);
             let s = &self.solved;
-            let (r, i) = commands::resolve_realization(&self.analysis, s, text)?;
+            let (r, i) = commands::resolve_realization(s, text)?;
             let k = s.components.of_interval[i];
             self.enter_component(k, Some((i, r.lambda)));
             return Ok(());

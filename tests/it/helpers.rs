@@ -32,7 +32,7 @@ pub fn scratch(name: &str) -> PathBuf {
 /// the reason if the scene has no Cayley space.
 pub fn solve_with(scene: Scene, base: Option<[usize; 2]>, scope: Scope) -> (Analysis, Solved) {
     let a = analyse_with(scene, base, scope).expect("a valid scene");
-    let s = a.outcome.clone().unwrap_or_else(|o| panic!("{}", o.describe(&a.linkage)));
+    let s = a.outcome.clone().unwrap_or_else(|o| panic!("{}", caymos::present::outside(&o, &a.linkage)));
     (a, s)
 }
 

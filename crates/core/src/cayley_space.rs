@@ -30,6 +30,8 @@ use crate::tolerance;
 
 /// How a step is flat at an endpoint.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, schemars::JsonSchema))]
+#[cfg_attr(feature = "serde", serde(rename_all = "snake_case"))]
 pub enum Kind {
     /// d = r1 + r2
     Stretched,
@@ -71,7 +73,10 @@ impl Kind {
 
 /// Step `step` is flat (`kind`) at an endpoint.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, schemars::JsonSchema))]
 pub struct Event {
+    #[cfg_attr(feature = "serde", serde(serialize_with = "crate::numbering::step_number"))]
+    #[cfg_attr(feature = "serde", schemars(with = "crate::numbering::StepNo"))]
     pub step: usize,
     pub kind: Kind,
 }
@@ -97,6 +102,8 @@ pub struct OrientedInterval<T> {
 /// Something special found while computing: a non-generic event, or a place
 /// where the method could not decide.
 #[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, schemars::JsonSchema))]
+#[cfg_attr(feature = "serde", serde(tag = "kind", rename_all = "snake_case"))]
 pub enum Note {
     /// Two or more steps flat at the same λ (a possible branch point).
     Coincident { lambda: f64, events: Vec<Event> },
@@ -104,13 +111,43 @@ pub enum Note {
     /// realizable point (`inside == false`) or a touch inside an interval.
     Tangency { lambda: f64, event: Event, inside: bool },
     /// Roots or signs that could not be separated at working precision.
-    Unresolved { lambda: f64, step: usize, detail: String },
+    Unresolved {
+        lambda: f64,
+        #[cfg_attr(feature = "serde", serde(serialize_with = "crate::numbering::step_number"))]
+        #[cfg_attr(feature = "serde", schemars(with = "crate::numbering::StepNo"))]
+        step: usize,
+        why: Unresolved,
+    },
     /// The base length reaches zero (the base joints coincide).
-    ZeroBase { step: usize },
+    ZeroBase {
+        #[cfg_attr(feature = "serde", serde(serialize_with = "crate::numbering::step_number"))]
+        #[cfg_attr(feature = "serde", schemars(with = "crate::numbering::StepNo"))]
+        step: usize,
+    },
     /// Step `step`'s base joints coincide all along a piece of λ: its vertex
     /// is free to turn (an extra degree of freedom, as in a folded rhombus).
     /// Those types have no realization there.
-    Degenerate { lambda: [f64; 2], step: usize },
+    Degenerate {
+        lambda: [f64; 2],
+        #[cfg_attr(feature = "serde", serde(serialize_with = "crate::numbering::step_number"))]
+        #[cfg_attr(feature = "serde", schemars(with = "crate::numbering::StepNo"))]
+        step: usize,
+    },
+}
+
+/// What could not be decided at working precision ([`Note::Unresolved`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, schemars::JsonSchema))]
+#[cfg_attr(feature = "serde", serde(tag = "reason", rename_all = "snake_case"))]
+pub enum Unresolved {
+    /// The slack's sign on one gap disagrees between its two roots.
+    GapSign,
+    /// The root search could not separate the inflections of d_k.
+    Inflections,
+    /// A near-double root: two endpoints or none.
+    NearDoubleRoot,
+    /// The lazy walk stopped after this many intervals (its budget).
+    WalkBudget { intervals: usize },
 }
 
 /// How endpoints were found.
@@ -368,11 +405,7 @@ impl<T: Real> Sweep<'_, T> {
                     (Some(x), None) | (None, Some(x)) => x > 0,
                     (l, r) => {
                         if l.is_some() && r.is_some() {
-                            self.notes.push(Note::Unresolved {
-                                lambda: a.to_f64(),
-                                step: k,
-                                detail: "the slack's sign on one gap disagrees between its two roots".into(),
-                            });
+                            self.notes.push(Note::Unresolved { lambda: a.to_f64(), step: k, why: Unresolved::GapSign });
                         }
                         self.gap_sign(k, bits, a, b) > 0
                     }
@@ -567,11 +600,7 @@ impl<T: Real> Sweep<'_, T> {
                     self.numeric_gap(k, a, c, eval, depth + 1, roots);
                     self.numeric_gap(k, c, b, eval, depth + 1, roots);
                 } else {
-                    self.notes.push(Note::Unresolved {
-                        lambda: a.to_f64(),
-                        step: k,
-                        detail: "the root search could not separate the inflections of d_k".into(),
-                    });
+                    self.notes.push(Note::Unresolved { lambda: a.to_f64(), step: k, why: Unresolved::Inflections });
                 }
                 return;
             }
@@ -587,11 +616,7 @@ impl<T: Real> Sweep<'_, T> {
             if ge.v.abs() <= tol {
                 roots.push(e);
                 if sign(ge.v) != 0 {
-                    self.notes.push(Note::Unresolved {
-                        lambda: e.to_f64(),
-                        step: k,
-                        detail: "a near-double root: two endpoints or none, not separable at this precision".into(),
-                    });
+                    self.notes.push(Note::Unresolved { lambda: e.to_f64(), step: k, why: Unresolved::NearDoubleRoot });
                 }
             } else if sign(ge.v) * sign(ga.v) < 0 {
                 roots.push(bisect(a, e, self.root_tol, |x| eval(self, x).map(|g| sign(g.v))));

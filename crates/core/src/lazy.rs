@@ -276,7 +276,7 @@ impl<'a, T: Real> Walker<'a, T> {
                 self.notes.push(Note::Unresolved {
                     lambda: e.lambda.to_f64(),
                     step: e.events[0].step,
-                    detail: format!("the lazy walk stopped after {} intervals", intervals.len()),
+                    why: crate::cayley_space::Unresolved::WalkBudget { intervals: intervals.len() },
                 });
                 return false;
             }
@@ -626,7 +626,7 @@ impl<'a, T: Real> Walker<'a, T> {
                 self.notes.push(Note::Unresolved {
                     lambda: m.to_f64(),
                     step: k,
-                    detail: "a near-double root: two endpoints or none, not separable at this precision".into(),
+                    why: crate::cayley_space::Unresolved::NearDoubleRoot,
                 });
             }
             return None;

@@ -38,6 +38,7 @@ pub mod invert;
 pub mod lazy;
 pub mod linkage;
 pub mod motion;
+pub mod numbering;
 pub mod numfmt;
 pub mod real;
 pub mod realize;

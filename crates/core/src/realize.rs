@@ -76,6 +76,24 @@ impl fmt::Display for RealizationType {
     }
 }
 
+/// Serialized as its signs, e.g. `"-+-+"`.
+#[cfg(feature = "serde")]
+impl serde::Serialize for RealizationType {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.collect_str(self)
+    }
+}
+
+#[cfg(feature = "serde")]
+impl schemars::JsonSchema for RealizationType {
+    fn schema_name() -> std::borrow::Cow<'static, str> {
+        "RealizationType".into()
+    }
+    fn json_schema(_: &mut schemars::SchemaGenerator) -> schemars::Schema {
+        schemars::json_schema!({ "type": "string", "pattern": "^[+-]*$" })
+    }
+}
+
 /// A cluster joint placed from a step's frame (p, q): `j = p + α(q−p) + β·perp(q−p)`.
 #[derive(Debug, Clone)]
 pub struct Member<T> {
@@ -113,11 +131,22 @@ pub struct Construction<T> {
 
 /// Why a (λ, type) has no realization.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, schemars::JsonSchema))]
+#[cfg_attr(feature = "serde", serde(tag = "reason", rename_all = "snake_case"))]
 pub enum Unrealizable {
     /// Step `step`'s triangle cannot close: slack (negative) in scene units.
-    Infeasible { step: usize, slack: f64 },
+    Infeasible {
+        #[cfg_attr(feature = "serde", serde(serialize_with = "crate::numbering::step_number"))]
+        #[cfg_attr(feature = "serde", schemars(with = "crate::numbering::StepNo"))]
+        step: usize,
+        slack: f64,
+    },
     /// Step `step`'s base joints coincide: its vertex is undetermined.
-    Degenerate { step: usize },
+    Degenerate {
+        #[cfg_attr(feature = "serde", serde(serialize_with = "crate::numbering::step_number"))]
+        #[cfg_attr(feature = "serde", schemars(with = "crate::numbering::StepNo"))]
+        step: usize,
+    },
 }
 
 /// The stated lengths cannot form a cluster (a sketch whose numbers contradict).
