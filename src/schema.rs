@@ -94,7 +94,14 @@ pub const SCHEMAS: &[(&str, fn() -> Schema)] = &[
     ("error", || schema_for!(Versioned<ErrorDoc>)),
 ];
 
-/// The schema called `name` (see [`SCHEMAS`]).
+/// The schema called `name` (see [`SCHEMAS`]), titled, with `schema_version`
+/// pinned to [`SCHEMA_VERSION`].
 pub fn schema(name: &str) -> Option<Schema> {
-    SCHEMAS.iter().find(|(n, _)| *n == name).map(|(_, f)| f())
+    let (_, make) = SCHEMAS.iter().find(|(n, _)| *n == name)?;
+    let mut schema = make();
+    schema.insert("title".into(), format!("caymos {name} --format json").into());
+    if let Some(version) = schema.get_mut("properties").and_then(|p| p.get_mut("schema_version")) {
+        *version = serde_json::json!({ "const": SCHEMA_VERSION, "description": "The contract's version." });
+    }
+    Some(schema)
 }

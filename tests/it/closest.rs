@@ -253,7 +253,7 @@ fn enclosures_hold_the_realizations() {
 #[test]
 fn closest_through_the_binary_reports_its_certificate() {
     let run = |args: &[&str]| std::process::Command::new(env!("CARGO_BIN_EXE_caymos")).args(args).output().unwrap();
-    let out = run(&["closest", "limacon", "--components", "0,2", "--gap", "1e-6", "--format", "json"]);
+    let out = run(&["closest", "limacon", "--components", "1,3", "--gap", "1e-6", "--format", "json"]);
     assert_eq!(out.status.code(), Some(0));
     let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(json["certified"], true);
@@ -261,8 +261,8 @@ fn closest_through_the_binary_reports_its_certificate() {
     assert_eq!(json["outcome"], "gap_reached");
     assert!(json["lower_bound"].as_f64().unwrap() <= json["distance"].as_f64().unwrap());
     assert!(json["boxes"].as_u64().unwrap() > 0 && json["end_pairs"].as_u64().unwrap() == 64);
-    let out = run(&["closest", "limacon", "--components", "0,2"]);
+    let out = run(&["closest", "limacon", "--components", "1,3"]);
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(text.contains("Cayley distance 143.87") && text.contains("certified to 1e-9"), "{text}");
-    assert_eq!(run(&["closest", "limacon", "--components", "0,2", "--gap", "2"]).status.code(), Some(1));
+    assert_eq!(run(&["closest", "limacon", "--components", "1,3", "--gap", "2"]).status.code(), Some(1));
 }
