@@ -84,8 +84,11 @@ pub struct ListDoc {
     pub scenes: Vec<ListedScene>,
 }
 
+/// Makes one document's schema.
+pub type MakeSchema = fn() -> Schema;
+
 /// Every `--format json` document by name, with its schema.
-pub const SCHEMAS: &[(&str, fn() -> Schema)] = &[
+pub const SCHEMAS: &[(&str, MakeSchema)] = &[
     ("report", || schema_for!(Versioned<crate::report::Report>)),
     ("path", || schema_for!(Versioned<crate::commands::PathReport>)),
     ("closest", || schema_for!(Versioned<crate::commands::ClosestOut>)),

@@ -223,7 +223,7 @@ proptest! {
     fn random_linkages_are_recognised_and_reproduced(seed in any::<u64>(), steps in 1usize..9, tri in 0.0f64..0.8) {
         let scene = random_linkage(seed, steps, tri);
         let a = analyse(scene, None).unwrap();
-        let s = a.outcome.as_ref().map_err(|o| caymos::present::outside(&o, &a.linkage)).unwrap();
+        let s = a.outcome.as_ref().map_err(|o| caymos::present::outside(o, &a.linkage)).unwrap();
         let pos = s.construction.realize(s.drawn.lambda, &s.drawn.ty).unwrap();
         let shown = to_display(&a.linkage, s.dec.base, &pos);
         let size = a.linkage.scale;
