@@ -121,7 +121,7 @@ enum Command {
     },
     /// Print the JSON Schema of a `--format json` document.
     Schema {
-        /// Which document: report, path, closest, bench, list or error.
+        /// Which `--format json` document.
         #[arg(value_parser = clap::builder::PossibleValuesParser::new(caymos::schema::SCHEMAS.iter().map(|(n, _)| *n)))]
         name: String,
     },

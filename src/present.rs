@@ -41,6 +41,11 @@ pub fn short_type(ty: &str) -> String {
     format!("{head}…{tail} ({n} signs)")
 }
 
+/// `v ◁ (u, w)`: vertex `v` placed on `u` and `w` (a step without its number).
+pub fn step_shape(vertex: &str, u: &str, w: &str) -> String {
+    format!("{vertex} ◁ ({u}, {w})")
+}
+
 /// What a sentence needs to name things: the joints' names and, for a
 /// recognised scene, its construction steps.
 #[derive(Clone, Copy)]
@@ -65,15 +70,11 @@ impl<'a> Names<'a> {
     /// `step 3 (v ◁ (u, w))`: the one place a step is labelled.
     pub fn step(&self, k: usize) -> String {
         match self.steps.get(k) {
-            Some(s) => {
-                format!(
-                    "step {} ({} ◁ ({}, {}))",
-                    StepNo::of_index(k),
-                    self.joint(s.vertex),
-                    self.joint(s.u),
-                    self.joint(s.w)
-                )
-            }
+            Some(s) => format!(
+                "step {} ({})",
+                StepNo::of_index(k),
+                step_shape(self.joint(s.vertex), self.joint(s.u), self.joint(s.w))
+            ),
             None => format!("step {}", StepNo::of_index(k)),
         }
     }

@@ -431,7 +431,7 @@ impl Report {
             .map(|s| {
                 [
                     s.step.to_string(),
-                    format!("{} ◁ ({}, {})", s.vertex, s.on[0], s.on[1]),
+                    present::step_shape(&s.vertex, &s.on[0], &s.on[1]),
                     format!("{{{}}}", s.clusters[0].join(",")),
                     format!("{{{}}}", s.clusters[1].join(",")),
                     format!("{}, {}", fmt_num(s.lengths[0]), fmt_num(s.lengths[1])),
@@ -727,7 +727,7 @@ impl Report {
             .map(|s| {
                 [
                     s.step.to_string(),
-                    md(&format!("{} ◁ ({}, {})", s.vertex, s.on[0], s.on[1])),
+                    md(&present::step_shape(&s.vertex, &s.on[0], &s.on[1])),
                     format!("{}, {}", fmt_num(s.lengths[0]), fmt_num(s.lengths[1])),
                 ]
             })
@@ -808,6 +808,7 @@ fn md(text: &str) -> String {
 
 /// A GitHub-flavoured Markdown table.
 fn md_table<const N: usize>(o: &mut String, header: &[&str; N], rows: &[[String; N]]) {
+    let header: Vec<String> = header.iter().map(|h| md(h)).collect();
     let _ = writeln!(o, "| {} |", header.join(" | "));
     let _ = writeln!(o, "|{}", " --- |".repeat(N));
     for row in rows {

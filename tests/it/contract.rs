@@ -157,6 +157,17 @@ fn markdown_report_is_a_job_summary() {
     }
     let md = stdout(&caymos(&["report", "jansen", "--format", "markdown"]));
     assert!(md.contains("### Construction steps (4)") && md.contains("### Components (6)"), "{md}");
+    // Every table row has as many cells as its header (a `|` in a cell is escaped).
+    let cells = |line: &str| line.replace("\\|", "").matches('|').count();
+    let mut width = None;
+    for line in md.lines() {
+        if !line.starts_with('|') {
+            width = None;
+            continue;
+        }
+        let w = *width.get_or_insert(cells(line));
+        assert_eq!(cells(line), w, "{line}\n{md}");
+    }
 }
 
 #[test]
