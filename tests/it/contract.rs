@@ -32,17 +32,28 @@ fn json(out: &std::process::Output) -> Value {
 
 #[test]
 fn every_report_validates_and_two_runs_are_byte_identical() {
-    for b in caymos::bundled::BUNDLED {
-        let first = caymos(&["report", b.name, "--format", "json"]);
-        let second = caymos(&["report", b.name, "--format", "json"]);
-        assert_eq!(first.stdout, second.stdout, "{}: two runs differ", b.name);
+    let hard: Vec<String> = caymos::generate::hard_cases().into_iter().map(|h| h.name).collect();
+    let names = caymos::bundled::BUNDLED.iter().map(|b| b.name).chain(hard.iter().map(String::as_str));
+    for name in names {
+        let first = caymos(&["report", name, "--format", "json"]);
+        let second = caymos(&["report", name, "--format", "json"]);
+        assert_eq!(first.stdout, second.stdout, "{name}: two runs differ");
         let doc = json(&first);
         assert_eq!(doc["schema_version"], 1);
-        assert!(doc["timings_us"].is_null(), "{}: timings only with --timings", b.name);
+        assert!(doc["timings_us"].is_null(), "{name}: timings only with --timings");
         validate("report", &doc);
     }
-    // A lazy analysis, a sketch and a hard case have their own fields.
-    for scene in ["hard:sliver", "jansen --lazy", "limacon --timings"] {
+    // A sketch whose stated lengths cannot close: no realization, said as data.
+    let dir = scratch("contract-sketch");
+    let file =
+        write(&dir, "cannot-close.toml", &caymos::generate::to_toml(&caymos::generate::four_bar(1.0, 10.0, 1.0, 1.0)));
+    let doc = json(&caymos(&["report", &file, "--format", "json"]));
+    validate("report", &doc);
+    assert_eq!(doc["no_realization"]["kind"], "base_ranges_miss", "{doc:#}");
+    assert!(doc["sketch"].is_object(), "{doc:#}");
+    std::fs::remove_dir_all(&dir).ok();
+    // A lazy analysis and one with timings.
+    for scene in ["jansen --lazy", "limacon --timings"] {
         let mut args = vec!["report", "--format", "json"];
         args.extend(scene.split(' '));
         let doc = json(&caymos(&args));
