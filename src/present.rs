@@ -417,7 +417,8 @@ pub fn lazy_note(s: &crate::analysis::Solved) -> Option<String> {
     ))
 }
 
-/// "no component K: …" for the component at index `k`, saying what is known (all components, or what a lazy analysis walked).
+/// "no component K: …" for the component at index `k`, saying what is known
+/// (all components, or what a lazy analysis walked).
 pub fn missing_component(s: &crate::analysis::Solved, k: usize) -> String {
     let n = s.components.list.len();
     if s.lazy {

@@ -10,6 +10,12 @@
 //! and paths; [`distance`] measures and certifies the closest pair.
 //! [`analysis`] runs it all, in f64 with a double-double self-check.
 //!
+//! Results are data (enums and structs carrying joints, steps and numbers,
+//! such as [`analysis::Warning`] and [`decompose::Outside`]); the caller says
+//! them in words. With the `serde` feature they serialize as
+//! `{"kind": …, data…}` and describe themselves as JSON Schemas (schemars);
+//! steps are then numbered from 1, as people count them ([`numbering`]).
+//!
 //! ```
 //! let text = r#"
 //! ground = ["D", "A"]
