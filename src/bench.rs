@@ -41,7 +41,7 @@ impl std::fmt::Display for BenchMethod {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match *self {
             BenchMethod::Exact => write!(f, "exact (closed form)"),
-            BenchMethod::Numeric { samples, tol } if tol == 0.0 => {
+            BenchMethod::Numeric { samples, tol: 0.0 } => {
                 write!(f, "numeric {samples} samples, full precision")
             }
             BenchMethod::Numeric { samples, tol } => write!(f, "numeric {samples} samples, tol {tol:e}"),
