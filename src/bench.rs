@@ -21,10 +21,40 @@ use crate::report::{fmt_num, fmt_sci, write_table};
 /// One interval as (type, lower, upper), the common currency of the comparison.
 type Span = (RealizationType, f64, f64);
 
-#[derive(Debug, Clone, Serialize)]
+/// A way of computing the Cayley space, as compared by `bench`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, schemars::JsonSchema)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum BenchMethod {
+    /// Closed-form endpoints (numeric only where the four-cycle test fails).
+    Exact,
+    /// The numeric root search with `samples` per piece, roots bisected to
+    /// `tol` × scale (0: full precision).
+    Numeric { samples: usize, tol: f64 },
+    /// The classic approach: closed-form candidates classified at midpoints
+    /// with the fixed absolute tolerance `tol`.
+    Classic { tol: f64 },
+    /// The lazy walk of the drawn component only.
+    Lazy,
+}
+
+impl std::fmt::Display for BenchMethod {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match *self {
+            BenchMethod::Exact => write!(f, "exact (closed form)"),
+            BenchMethod::Numeric { samples, tol: 0.0 } => {
+                write!(f, "numeric {samples} samples, full precision")
+            }
+            BenchMethod::Numeric { samples, tol } => write!(f, "numeric {samples} samples, tol {tol:e}"),
+            BenchMethod::Classic { tol } => write!(f, "classic (midpoints, abs tol {tol:e})"),
+            BenchMethod::Lazy => write!(f, "lazy walk (drawn component only)"),
+        }
+    }
+}
+
+#[derive(Debug, Clone, Serialize, schemars::JsonSchema)]
 pub struct MethodRow {
     pub scene: String,
-    pub method: String,
+    pub method: BenchMethod,
     pub median_us: f64,
     pub intervals: usize,
     pub reference_intervals: usize,
@@ -34,7 +64,7 @@ pub struct MethodRow {
     pub spurious: usize,
 }
 
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, schemars::JsonSchema)]
 pub struct StepRow {
     pub scene: String,
     /// Step bound as a fraction of the drawing's extent (bounding-box diagonal).
@@ -52,7 +82,7 @@ pub struct StepRow {
 }
 
 /// The lazy walk on a generated family member (`caymos bench --scaling`).
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, schemars::JsonSchema)]
 pub struct ScalingRow {
     pub family: String,
     pub steps: usize,
@@ -71,13 +101,13 @@ pub struct ScalingRow {
 }
 
 /// A scene that was not benchmarked, and why.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, schemars::JsonSchema)]
 pub struct Skipped {
     pub scene: String,
     pub reason: String,
 }
 
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, schemars::JsonSchema)]
 pub struct BenchReport {
     pub repeat: usize,
     pub methods: Vec<MethodRow>,
@@ -227,7 +257,7 @@ pub fn bench_scene(a: &Analysis, s: &Solved, repeat: usize) -> (Vec<MethodRow>, 
         });
         let row = MethodRow {
             scene: name,
-            method: "lazy walk (drawn component only)".into(),
+            method: BenchMethod::Lazy,
             median_us: t,
             intervals: n,
             reference_intervals: n,
@@ -243,13 +273,13 @@ pub fn bench_scene(a: &Analysis, s: &Solved, repeat: usize) -> (Vec<MethodRow>, 
         spans(&cayley_space(&dd, &s.certifier, jd, &s.dec, &s.complexity, Method::Exact))
     };
     let mut rows = Vec::new();
-    let methods: [(String, Method); 4] = [
-        ("exact (closed form)".into(), Method::Exact),
-        ("numeric 32 samples, full precision".into(), Method::Numeric { samples: 32, tol: 0.0 }),
-        ("numeric 16 samples, tol 1e-8".into(), Method::Numeric { samples: 16, tol: 1e-8 }),
-        ("numeric 8 samples, tol 1e-4".into(), Method::Numeric { samples: 8, tol: 1e-4 }),
+    let methods: [Method; 4] = [
+        Method::Exact,
+        Method::Numeric { samples: 32, tol: 0.0 },
+        Method::Numeric { samples: 16, tol: 1e-8 },
+        Method::Numeric { samples: 8, tol: 1e-4 },
     ];
-    let row = |method: String, median_us: f64, got: &[Span]| {
+    let row = |method: BenchMethod, median_us: f64, got: &[Span]| {
         let (max_endpoint_error, missed, spurious) = compare(got, &reference, scale);
         MethodRow {
             scene: name.clone(),
@@ -262,14 +292,18 @@ pub fn bench_scene(a: &Analysis, s: &Solved, repeat: usize) -> (Vec<MethodRow>, 
             spurious,
         }
     };
-    for (label, method) in methods {
+    for method in methods {
         let (t, space) =
             median_us(repeat, || cayley_space(con, &s.certifier, jet.clone(), &s.dec, &s.complexity, method));
+        let label = match method {
+            Method::Exact => BenchMethod::Exact,
+            Method::Numeric { samples, tol } => BenchMethod::Numeric { samples, tol },
+        };
         rows.push(row(label, t, &spans(&space)));
     }
     let (t, classic) = median_us(repeat, || classic_space(con, s));
     if let Some(got) = classic {
-        rows.push(row("classic (midpoints, abs tol 1e-4)".into(), t, &got));
+        rows.push(row(BenchMethod::Classic { tol: crate::tolerance::CLASSIC_ABSOLUTE_TOL }, t, &got));
     }
     // The lazy walk computes one component: compare it with the reference
     // intervals of the same component (the exhaustive run's drawn component).
@@ -291,7 +325,7 @@ pub fn bench_scene(a: &Analysis, s: &Solved, repeat: usize) -> (Vec<MethodRow>, 
             let (max_endpoint_error, missed, spurious) = compare(&got, &reference_component, scale);
             rows.push(MethodRow {
                 scene: name.clone(),
-                method: "lazy walk (drawn component only)".into(),
+                method: BenchMethod::Lazy,
                 median_us: t,
                 intervals: got.len(),
                 reference_intervals: reference_component.len(),
@@ -361,7 +395,7 @@ impl BenchReport {
             .map(|r| {
                 [
                     r.scene.clone(),
-                    r.method.clone(),
+                    r.method.to_string(),
                     fmt_num(r.median_us),
                     fmt_sci(r.max_endpoint_error),
                     format!("{}/{}", r.intervals, r.reference_intervals),
@@ -422,10 +456,10 @@ impl BenchReport {
     fn chart(&self) -> String {
         const W: usize = 56;
         const H: usize = 12;
-        let mut names: Vec<&str> = Vec::new();
+        let mut names: Vec<BenchMethod> = Vec::new();
         for r in &self.methods {
-            if !names.contains(&r.method.as_str()) {
-                names.push(&r.method);
+            if !names.contains(&r.method) {
+                names.push(r.method);
             }
         }
         let floor = 1e-17;

@@ -5,15 +5,18 @@
 
 use std::fmt::Write as _;
 
+use schemars::JsonSchema;
 use serde::Serialize;
 
-use crate::analysis::{Analysis, Solved};
-use crate::distance::{Certificate, ClosestOptions, ClosestPair, Outcome, closest_pair};
+use crate::analysis::{Analysis, Solved, no_realization};
+use crate::distance::{ClosestOptions, ClosestPair, Outcome, closest_pair};
+use crate::linkage::Linkage;
 use crate::motion::{
     Segment, Stepper, WalkSummary, arcs, bounding_diagonal, component_segments, explain_missing, locate, measure,
 };
+use crate::numfmt::fmt_num;
+use crate::present::{self, ComponentNo, Names};
 use crate::realize::{Point2, Realization};
-use crate::report::fmt_num;
 use crate::tolerance;
 
 /// How finely and how far a command walks: the geometric step (largest joint
@@ -39,129 +42,12 @@ pub fn default_step(a: &Analysis) -> f64 {
     tolerance::DEFAULT_STEP_FRACTION * drawing_extent(a)
 }
 
-/// Sentences about a walk that did not simply run from start to end.
-pub fn walk_notes(w: &WalkSummary, max_samples: usize) -> Vec<String> {
-    let mut notes = Vec::new();
-    if w.truncated {
-        notes.push(format!(
-            "stopped at the sample budget ({max_samples} samples) before the end; --max-samples raises it, a larger --step needs fewer"
-        ));
+/// `Err` with the reason in words when `s` has no component to walk.
+pub fn require_component(linkage: &Linkage, s: &Solved) -> Result<(), String> {
+    match no_realization(s, linkage.scale) {
+        Some(why) => Err(present::no_realization(&why, Names::new(linkage, &s.dec.steps), &s.construction)),
+        None => Ok(()),
     }
-    if let Some(l) = w.stopped_at {
-        notes.push(format!("no realization could be computed at λ = {}: the walk ends there", fmt_num(l)));
-    }
-    if !w.jumps.is_empty() {
-        // Jumps that print alike (6 digits) are listed once, with their count.
-        let mut places: Vec<(String, usize)> = Vec::new();
-        for &l in &w.jumps {
-            match places.last_mut() {
-                Some((text, n)) if *text == fmt_num(l) => *n += 1,
-                _ => places.push((fmt_num(l), 1)),
-            }
-        }
-        let shown: Vec<String> =
-            places.iter().take(8).map(|(t, n)| if *n > 1 { format!("{t} ({n} times)") } else { t.clone() }).collect();
-        let more = if places.len() > 8 { format!(", … ({} places)", places.len()) } else { String::new() };
-        notes.push(format!(
-            "{} jump{} (joints move farther than the step between adjacent floats of λ: a degenerate pass; no continuous motion joins the two samples) at λ = {}{more}",
-            w.jumps.len(),
-            if w.jumps.len() == 1 { "" } else { "s" },
-            shown.join(", ")
-        ));
-    }
-    for [from, to] in &w.unresolved {
-        notes.push(format!(
-            "the realization is not resolved in f64 for λ from {} to {} (joints jump at every step there): skipped as one jump",
-            fmt_num(*from),
-            fmt_num(*to)
-        ));
-    }
-    notes
-}
-
-/// Why a solved scene has nothing to walk, in words (`None` when it has a component).
-/// Each step standing on the base allows the base length only in
-/// [|r1 − r2|, r1 + r2]; when two of these ranges miss each other, they are named.
-pub fn no_realization(a: &Analysis, s: &Solved) -> Option<String> {
-    if !s.components.list.is_empty() {
-        return None;
-    }
-    let names = &a.linkage.names;
-    let con = &s.construction;
-    let base = format!("{}–{}", names[con.base[0]], names[con.base[1]]);
-    let describe = |k: usize| {
-        let g = &con.steps[k];
-        let (v, u, w) = (&names[g.vertex], &names[g.u], &names[g.w]);
-        format!("step {} ({v} ◁ ({u}, {w}): |{u}{v}| = {}, |{w}{v}| = {})", k + 1, fmt_num(g.r1), fmt_num(g.r2))
-    };
-    let on_base: Vec<(usize, f64, f64)> = (0..con.steps.len())
-        .filter(|&k| con.on_base(k))
-        .map(|k| (k, (con.steps[k].r1 - con.steps[k].r2).abs(), con.steps[k].r1 + con.steps[k].r2))
-        .collect();
-    let lowest_upper = on_base.iter().min_by(|x, y| x.2.total_cmp(&y.2));
-    let highest_lower = on_base.iter().max_by(|x, y| x.1.total_cmp(&y.1));
-    if let (Some(&(kl, lo, _)), Some(&(ku, _, hi))) = (highest_lower, lowest_upper)
-        && lo > hi
-    {
-        return Some(format!(
-            "no realization: the base {base} would have to be at least {} long for {} but at most {} for {}",
-            fmt_num(lo),
-            describe(kl),
-            fmt_num(hi),
-            describe(ku)
-        ));
-    }
-    // A realization the sweep should have found: the drawn one, or (every
-    // step on the base, their ranges overlapping) any type inside the overlap.
-    let drawn_closes = con.realize(s.drawn.lambda, &s.drawn.ty).is_ok();
-    let all_on_base = on_base.len() == con.steps.len();
-    if drawn_closes || (all_on_base && !on_base.is_empty()) {
-        return Some(format!(
-            "no realization was found, yet {}: the analysis failed numerically (scene scale {}); please report this scene",
-            if drawn_closes {
-                format!(
-                    "the drawn realization (type {} at λ = {}) closes every step",
-                    crate::report::short_type(&s.drawn.ty.to_string()),
-                    fmt_num(s.drawn.lambda)
-                )
-            } else {
-                "every step stands on the base and their ranges overlap".to_string()
-            },
-            fmt_num(a.linkage.scale)
-        ));
-    }
-    if s.lazy {
-        return Some(format!(
-            "no realization found: the lazy analysis walks from the drawn realization, and its type {} has none at λ = {} (`--all` analyses every type)",
-            crate::report::short_type(&s.drawn.ty.to_string()),
-            fmt_num(s.drawn.lambda)
-        ));
-    }
-    let range = match (highest_lower, lowest_upper) {
-        (Some(&(_, lo, _)), Some(&(_, _, hi))) => {
-            format!(" for any base length in [{}, {}], the range the steps on the base allow", fmt_num(lo), fmt_num(hi))
-        }
-        _ => String::new(),
-    };
-    Some(format!("no realization: no orientation type closes every construction step{range}"))
-}
-
-/// In a lazy analysis, which components are known and how they were found.
-pub fn lazy_note(s: &Solved) -> Option<String> {
-    if !s.lazy {
-        return None;
-    }
-    let n = s.components.list.len();
-    Some(format!(
-        "lazy analysis ({} steps): {n} component{} walked: the drawn realization's{}; `--component K` walks more, `--all` analyses every type (component numbers then follow `report --all`)",
-        s.dec.steps.len(),
-        if n == 1 { "" } else { "s" },
-        if n > 1 {
-            format!(" and those through realizations at the drawn λ = {}, in type order", fmt_num(s.drawn.lambda))
-        } else {
-            String::new()
-        }
-    ))
 }
 
 /// In a lazy analysis, walk components until at least `want` are known:
@@ -202,25 +88,6 @@ pub fn walk_components(s: &mut Solved, want: usize) -> usize {
     s.components.list.len()
 }
 
-/// "no component k: …", saying what is known (all components, or what a lazy analysis walked).
-pub fn missing_component(s: &Solved, k: usize) -> String {
-    let n = s.components.list.len();
-    if s.lazy {
-        format!(
-            "no component {k}: {n} component{} walked lazily (the drawn realization's, then at most {} more per command through realizations at the drawn λ = {}, in type order); `--all` analyses every type",
-            if n == 1 { "" } else { "s" },
-            tolerance::LAZY_MAX_NEW_COMPONENTS,
-            fmt_num(s.drawn.lambda)
-        )
-    } else {
-        format!(
-            "no component {k}: this scene has {n} component{} (0..{})",
-            if n == 1 { "" } else { "s" },
-            n.saturating_sub(1)
-        )
-    }
-}
-
 /// In a lazy analysis, walk the components through the realizations named
 /// by `specs` (`TYPE@LAMBDA`; `drawn` is always known) so that they resolve.
 pub fn include_specs(s: &mut Solved, specs: &[&str]) {
@@ -232,19 +99,19 @@ pub fn include_specs(s: &mut Solved, specs: &[&str]) {
 }
 
 /// `drawn` or `TYPE@LAMBDA` → a located realization (interval index).
-pub fn resolve_realization(a: &Analysis, s: &Solved, spec: &str) -> Result<(Realization, usize), String> {
+pub fn resolve_realization(s: &Solved, spec: &str) -> Result<(Realization, usize), String> {
     let r = if spec.trim() == "drawn" {
         Realization { ty: s.drawn.ty.clone(), lambda: s.drawn.lambda }
     } else {
         Realization::parse(spec)?
     };
-    match locate(&s.space, &r, a.linkage.scale) {
+    match locate(&s.space, &r, s.construction.scale) {
         Some(i) => Ok((r, i)),
-        None => Err(format!("{spec}: {}", explain_missing(&s.space, &r, s.dec.steps.len()))),
+        None => Err(format!("{spec}: {}", present::missing(&explain_missing(&s.space, &r, s.dec.steps.len())))),
     }
 }
 
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, JsonSchema)]
 pub struct SegmentOut {
     #[serde(rename = "type")]
     pub ty: String,
@@ -252,10 +119,28 @@ pub struct SegmentOut {
     pub to: f64,
 }
 
-#[derive(Debug, Clone, Serialize)]
+/// Which way a path runs around its component.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, JsonSchema)]
+#[serde(rename_all = "snake_case")]
+pub enum Direction {
+    /// In the component's listed order (`--arc 1`).
+    Along,
+    /// Against it (`--arc 2`).
+    Against,
+}
+
+impl std::fmt::Display for Direction {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Direction::Along => "along",
+            Direction::Against => "against",
+        })
+    }
+}
+
+#[derive(Debug, Clone, Serialize, JsonSchema)]
 pub struct PathOut {
-    /// `along` the component's listed order, or `against` it.
-    pub direction: &'static str,
+    pub direction: Direction,
     pub intervals: Vec<SegmentOut>,
     pub n_intervals: usize,
     pub lambda_range: [f64; 2],
@@ -273,17 +158,18 @@ pub struct PathOut {
     pub notes: Vec<String>,
 }
 
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, JsonSchema)]
 pub struct RealizationOut {
     #[serde(rename = "type")]
     pub ty: String,
     pub lambda: f64,
-    pub component: usize,
+    /// Numbered from 1, as in the report and `--component`.
+    pub component: ComponentNo,
 }
 
 /// The closest pair between two components with its certificate: the
 /// numbers are the solver's ([`Certificate`]); `certificate` says them in words.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, JsonSchema)]
 pub struct ClosestOut {
     pub distance: f64,
     pub a: RealizationOut,
@@ -314,7 +200,7 @@ impl ClosestOut {
             "Closest pair between components {} and {}: Cayley distance {}\n  {}@{}  and  {}@{}\n  {}\n",
             self.a.component,
             self.b.component,
-            full(self.distance),
+            present::full(self.distance),
             self.a.ty,
             self.a.lambda,
             self.b.ty,
@@ -324,58 +210,7 @@ impl ClosestOut {
     }
 }
 
-/// A distance to full precision: the shortest form that reads back exactly,
-/// in scientific notation when tiny or huge.
-fn full(x: f64) -> String {
-    if x == 0.0 || (1e-4..1e15).contains(&x.abs()) { format!("{x}") } else { format!("{x:e}") }
-}
-
-/// The certificate in words: "certified to …" only when it is.
-pub fn certificate_sentence(c: &Certificate) -> String {
-    let (lo, hi, req) = (full(c.lower), full(c.upper), c.requested_gap);
-    let range = format!("the minimum distance lies in [{lo}, {hi}] (relative gap {:.1e})", c.gap);
-    let mut o = match c.outcome {
-        Outcome::Mirror => {
-            return "distance exactly 0: the components are mirror images (every realization's mirror lies in the \
-                    other, with the same Cayley vector)"
-                .into();
-        }
-        Outcome::GapReached if c.certified => format!(
-            "certified to {req:e}: no two realizations, one in each component, are closer than {lo}, and the pair \
-             above is at most {hi} apart (interval arithmetic with outward rounding over {} boxes and {} pairs of \
-             interval ends, every end verified)",
-            c.boxes, c.end_pairs
-        ),
-        Outcome::GapReached => format!("gap {req:e} reached over the intervals as computed: {range}"),
-        Outcome::Resolution if c.upper.is_infinite() => format!(
-            "not certified: f64 interval arithmetic cannot enclose these realizations (their construction is too \
-             deep for its rounding to stay small); proven: no two realizations are closer than {lo}"
-        ),
-        Outcome::Resolution if c.lower == 0.0 && c.upper > 0.0 => format!(
-            "not certified to {req:e}: the Cayley curves meet or nearly so (the pair above is 0 apart up to \
-             rounding); proven: the minimum distance lies in [0, {hi}]"
-        ),
-        Outcome::Resolution => {
-            format!(
-                "not certified to {req:e}: f64 interval arithmetic does not resolve the distance that finely here; proven: {range}"
-            )
-        }
-        Outcome::Budget => {
-            format!("not certified to {req:e}: the budget of {} boxes ran out; proven: {range}", c.max_boxes)
-        }
-    };
-    if c.unverified_ends > 0 {
-        let _ = write!(
-            o,
-            "; not certified: {} interval ends could not be verified (several steps flat at once, or a tangency), \
-             so the bounds hold for the intervals as computed",
-            c.unverified_ends
-        );
-    }
-    o
-}
-
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, JsonSchema)]
 pub struct PathReport {
     pub from: RealizationOut,
     pub to: RealizationOut,
@@ -386,7 +221,11 @@ pub struct PathReport {
 }
 
 fn realization_out(s: &Solved, r: &Realization, interval: usize) -> RealizationOut {
-    RealizationOut { ty: r.ty.to_string(), lambda: r.lambda, component: s.components.of_interval[interval] }
+    RealizationOut {
+        ty: r.ty.to_string(),
+        lambda: r.lambda,
+        component: ComponentNo::of_index(s.components.of_interval[interval]),
+    }
 }
 
 fn closest_out(s: &Solved, c: &ClosestPair, (ca, cb): (usize, usize)) -> ClosestOut {
@@ -396,8 +235,16 @@ fn closest_out(s: &Solved, c: &ClosestPair, (ca, cb): (usize, usize)) -> Closest
     let cert = &c.certificate;
     ClosestOut {
         distance: c.distance,
-        a: RealizationOut { ty: c.a.ty.to_string(), lambda: c.a.lambda, component: comp(&c.a, ca) },
-        b: RealizationOut { ty: c.b.ty.to_string(), lambda: c.b.lambda, component: comp(&c.b, cb) },
+        a: RealizationOut {
+            ty: c.a.ty.to_string(),
+            lambda: c.a.lambda,
+            component: ComponentNo::of_index(comp(&c.a, ca)),
+        },
+        b: RealizationOut {
+            ty: c.b.ty.to_string(),
+            lambda: c.b.lambda,
+            component: ComponentNo::of_index(comp(&c.b, cb)),
+        },
         lower_bound: cert.lower,
         upper_bound: cert.upper,
         relative_gap: cert.gap,
@@ -410,24 +257,28 @@ fn closest_out(s: &Solved, c: &ClosestPair, (ca, cb): (usize, usize)) -> Closest
         unverified_ends: cert.unverified_ends,
         mirror_images: c.mirror,
         curves_cross: c.crossing,
-        certificate: certificate_sentence(cert),
+        certificate: present::certificate(cert),
     }
 }
 
 /// Closest pair between components `i` and `j` (indices into the component
 /// list), certified to the default relative gap. In a lazy analysis the
 /// components are walked first if needed.
-pub fn closest(a: &Analysis, s: &Solved, i: usize, j: usize) -> Result<ClosestOut, String> {
-    closest_with(a, s, i, j, ClosestOptions::default())
+pub fn closest(linkage: &Linkage, s: &Solved, i: usize, j: usize) -> Result<ClosestOut, String> {
+    closest_with(linkage, s, i, j, ClosestOptions::default())
 }
 
 /// [`closest`] with the gap and work budget chosen.
-pub fn closest_with(a: &Analysis, s: &Solved, i: usize, j: usize, opts: ClosestOptions) -> Result<ClosestOut, String> {
-    if let Some(why) = no_realization(a, s) {
-        return Err(why);
-    }
+pub fn closest_with(
+    linkage: &Linkage,
+    s: &Solved,
+    i: usize,
+    j: usize,
+    opts: ClosestOptions,
+) -> Result<ClosestOut, String> {
+    require_component(linkage, s)?;
     if let Some(&k) = [i, j].iter().find(|&&k| k >= s.components.list.len()) {
-        return Err(missing_component(s, k));
+        return Err(present::missing_component(s, k));
     }
     if i == j {
         return Err("the two components must differ (distance within one component is 0)".into());
@@ -443,17 +294,15 @@ pub fn closest_with(a: &Analysis, s: &Solved, i: usize, j: usize, opts: ClosestO
 
 /// Both paths between two realizations, or the closest pair when none exists.
 /// Each path is walked within `walk`'s sample budget and says if it was cut.
-pub fn path(a: &Analysis, s: &Solved, from: &str, to: &str, walk: Walk) -> Result<PathReport, String> {
-    if let Some(why) = no_realization(a, s) {
-        return Err(why);
-    }
-    let (ra, ia) = resolve_realization(a, s, from)?;
-    let (rb, ib) = resolve_realization(a, s, to)?;
+pub fn path(linkage: &Linkage, s: &Solved, from: &str, to: &str, walk: Walk) -> Result<PathReport, String> {
+    require_component(linkage, s)?;
+    let (ra, ia) = resolve_realization(s, from)?;
+    let (rb, ib) = resolve_realization(s, to)?;
     let (ca, cb) = (s.components.of_interval[ia], s.components.of_interval[ib]);
     let from_out = realization_out(s, &ra, ia);
     let to_out = realization_out(s, &rb, ib);
     if ca != cb {
-        let closest = closest(a, s, ca, cb)?;
+        let closest = closest(linkage, s, ca, cb)?;
         return Ok(PathReport {
             from: from_out,
             to: to_out,
@@ -469,10 +318,10 @@ pub fn path(a: &Analysis, s: &Solved, from: &str, to: &str, walk: Walk) -> Resul
     // An open component (a chain between dead ends) has one path only.
     let mut paths: Vec<PathOut> = both
         .into_iter()
-        .zip(["along", "against"])
+        .zip([Direction::Along, Direction::Against])
         .filter(|(segs, _)| !segs.is_empty())
         .map(|(segs, direction)| {
-            let m = measure(&s.construction, &a.linkage, segs.clone(), walk.step, &s.complexity.ccv, walk.max_samples);
+            let m = measure(&s.construction, linkage, segs.clone(), walk.step, &s.complexity.ccv, walk.max_samples);
             let lo = segs.iter().map(|x| x.from.min(x.to)).fold(f64::INFINITY, f64::min);
             let hi = segs.iter().map(|x| x.from.max(x.to)).fold(f64::NEG_INFINITY, f64::max);
             PathOut {
@@ -486,7 +335,7 @@ pub fn path(a: &Analysis, s: &Solved, from: &str, to: &str, walk: Walk) -> Resul
                 samples: m.walk.samples,
                 complete: m.walk.complete(),
                 jumps: m.walk.jumps.clone(),
-                notes: walk_notes(&m.walk, walk.max_samples),
+                notes: present::walk_notes(&m.walk, walk.max_samples),
             }
         })
         .collect();
@@ -513,7 +362,7 @@ impl PathReport {
         let _ = writeln!(o, "From {}  to {}", r(&self.from), r(&self.to));
         if let Some(c) = &self.closest_pair {
             let _ = writeln!(o, "No path: the realizations lie in different components.");
-            let _ = writeln!(o, "Closest pair by Cayley distance: {}", full(c.distance));
+            let _ = writeln!(o, "Closest pair by Cayley distance: {}", present::full(c.distance));
             let _ = writeln!(o, "  {}  and  {}", r(&c.a), r(&c.b));
             let _ = writeln!(o, "  {}", c.certificate);
             return o;
@@ -549,17 +398,15 @@ impl PathReport {
 /// Segments for `trace`: a whole component (default: the drawn
 /// realization's), or the shorter (or chosen) arc between two realizations.
 pub fn trace_segments(
-    a: &Analysis,
+    linkage: &Linkage,
     s: &Solved,
     component: Option<usize>,
     between: Option<(&str, &str, Option<usize>)>,
 ) -> Result<Vec<Segment>, String> {
-    if let Some(why) = no_realization(a, s) {
-        return Err(why);
-    }
+    require_component(linkage, s)?;
     if let Some((from, to, arc)) = between {
-        let (ra, ia) = resolve_realization(a, s, from)?;
-        let (rb, ib) = resolve_realization(a, s, to)?;
+        let (ra, ia) = resolve_realization(s, from)?;
+        let (rb, ib) = resolve_realization(s, to)?;
         let c = s.components.of_interval[ia];
         if c != s.components.of_interval[ib] {
             return Err("no path: the two realizations lie in different components (see `caymos path`)".into());
@@ -592,26 +439,26 @@ pub fn trace_segments(
         (Some(k), _) | (None, Some(k)) => k,
         (None, None) => {
             return Err(format!(
-                "the drawn realization ({}@{}) lies in no component found (see the warnings of `caymos report`); choose one with --component 0..{}",
-                crate::report::short_type(&s.drawn.ty.to_string()),
+                "the drawn realization ({}@{}) lies in no component found (see the warnings of `caymos report`); choose one with --component 1..{}",
+                present::short_type(&s.drawn.ty.to_string()),
                 fmt_num(s.drawn.lambda),
-                s.components.list.len() - 1
+                s.components.list.len()
             ));
         }
     };
-    let comp = s.components.list.get(k).ok_or_else(|| missing_component(s, k))?;
+    let comp = s.components.list.get(k).ok_or_else(|| present::missing_component(s, k))?;
     Ok(component_segments(&s.space, comp))
 }
 
 /// Joint indices from `A,B,...` (all joints when `None`).
-pub fn parse_joints(a: &Analysis, list: Option<&str>) -> Result<Vec<usize>, String> {
+pub fn parse_joints(linkage: &Linkage, list: Option<&str>) -> Result<Vec<usize>, String> {
     match list {
-        None => Ok((0..a.linkage.n_joints()).collect()),
+        None => Ok((0..linkage.n_joints()).collect()),
         Some(text) => text
             .split(',')
             .map(|n| {
                 let n = n.trim();
-                a.linkage.names.iter().position(|x| x == n).ok_or_else(|| format!("--joints: no joint named \"{n}\""))
+                linkage.names.iter().position(|x| x == n).ok_or_else(|| format!("--joints: no joint named \"{n}\""))
             })
             .collect(),
     }
@@ -624,7 +471,7 @@ pub fn parse_joints(a: &Analysis, list: Option<&str>) -> Result<Vec<usize>, Stri
 /// distance vector follows (columns named `A-B`): the Cayley curve of the
 /// component or path. Numbers are written in full precision.
 pub fn trace_csv(
-    a: &Analysis,
+    linkage: &Linkage,
     s: &Solved,
     segments: Vec<Segment>,
     joints: &[usize],
@@ -634,16 +481,16 @@ pub fn trace_csv(
 ) -> std::io::Result<WalkSummary> {
     let mut row = String::from("index,lambda,type,jump");
     for &j in joints {
-        let _ = write!(row, ",{0}.x,{0}.y", a.linkage.names[j]);
+        let _ = write!(row, ",{0}.x,{0}.y", linkage.names[j]);
     }
     if cayley {
         for &[p, q] in &s.complexity.ccv {
-            let _ = write!(row, ",{}-{}", a.linkage.names[p], a.linkage.names[q]);
+            let _ = write!(row, ",{}-{}", linkage.names[p], linkage.names[q]);
         }
     }
     row.push('\n');
     out.write_all(row.as_bytes())?;
-    let mut stepper = Stepper::new(&s.construction, &a.linkage, segments, walk.step).with_budget(walk.max_samples);
+    let mut stepper = Stepper::new(&s.construction, linkage, segments, walk.step).with_budget(walk.max_samples);
     for (i, sample) in stepper.by_ref().enumerate() {
         row.clear();
         let _ = write!(row, "{i},{},{},{}", sample.lambda, sample.ty, u8::from(sample.jump));
@@ -737,9 +584,9 @@ pub fn svg(a: &Analysis, s: &Solved, segments: Vec<Segment>, joints: &[usize], w
     let _ = writeln!(o, "<title>{} — caymos</title>", xml_escape(&a.scene.name));
     let _ = writeln!(o, "<!-- 1 view unit = {} scene units -->", fmt_num(1.0 / unit));
     let w_sum = stepper.summary().clone();
-    let mut notes = walk_notes(&w_sum, walk.max_samples);
+    let mut notes = present::walk_notes(&w_sum, walk.max_samples);
     if points_cut {
-        notes.insert(0, svg_cut_note(joints.len()));
+        notes.insert(0, present::svg_cut_note(joints.len()));
     }
     for note in notes {
         let _ = writeln!(o, "<!-- note: {} -->", xml_escape(&note).replace("--", "—"));
@@ -793,14 +640,6 @@ pub fn svg(a: &Analysis, s: &Solved, segments: Vec<Segment>, joints: &[usize], w
     }
     o.push_str("</svg>\n");
     SvgOut { text: o, walk: w_sum, points_cut }
-}
-
-/// Said when an SVG's traces end at [`tolerance::SVG_MAX_POINTS`].
-pub fn svg_cut_note(joints: usize) -> String {
-    format!(
-        "the traces end early: an SVG keeps at most {} points ({joints} joints traced; --joints traces fewer, a larger --step needs fewer)",
-        tolerance::SVG_MAX_POINTS
-    )
 }
 
 fn xml_escape(s: &str) -> String {

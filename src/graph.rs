@@ -12,7 +12,8 @@ use crate::decompose::{Decomposition, decompose};
 use petgraph::visit::EdgeRef;
 
 use crate::linkage::{Constraint, Linkage};
-use crate::report::fmt_num;
+use crate::present;
+use crate::report::{OutsideReport, Said, fmt_num};
 use crate::scene::{Scene, SceneError};
 
 /// The linkage graph and its decomposition (JSON of `caymos graph --format json`).
@@ -35,7 +36,7 @@ pub struct GraphReport {
     /// The construction steps from the base, numbered from 1.
     pub steps: Vec<StepOut>,
     /// Why the linkage is outside the handled class (then no base and no steps).
-    pub outside: Option<OutsideOut>,
+    pub outside: Option<Said<OutsideReport>>,
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize, JsonSchema)]
@@ -84,14 +85,6 @@ pub struct StepOut {
     pub label: String,
 }
 
-#[derive(Debug, Clone, PartialEq, Serialize, JsonSchema)]
-pub struct OutsideOut {
-    /// Machine name, e.g. `disconnected`, `rigid`.
-    pub kind: String,
-    /// The reason in a sentence naming joints and bars.
-    pub reason: String,
-}
-
 /// The graph report of a scene on its base (stated, `base`, or chosen).
 /// Errors are a base that cannot be used; a linkage outside the class is
 /// reported (joints and bars) with `outside` set.
@@ -133,7 +126,10 @@ pub fn graph_report(scene: &Scene, base: Option<[usize; 2]>) -> Result<GraphRepo
     };
     match decompose(&linkage, requested) {
         Err(outside) => {
-            report.outside = Some(OutsideOut { kind: outside.kind().into(), reason: outside.describe(&linkage) });
+            report.outside = Some(Said {
+                data: OutsideReport::new(&outside, &linkage),
+                message: present::outside(&outside, &linkage),
+            });
         }
         Ok(Err(e)) => {
             let line = if from_scene { scene.base.map(|b| b.1) } else { None };
@@ -195,7 +191,7 @@ pub fn to_dot(r: &GraphReport) -> String {
     let _ = writeln!(out, "graph {} {{", quoted(&r.scene));
     let title = match (&r.base, &r.outside) {
         (Some([a, b]), _) => format!("{}: base {a}–{b}, {} construction steps", r.scene, r.steps.len()),
-        (None, Some(o)) => format!("{}: {}", r.scene, o.reason),
+        (None, Some(o)) => format!("{}: {}", r.scene, o.message),
         (None, None) => r.scene.clone(),
     };
     let _ = writeln!(out, "  label={};", quoted(&title));

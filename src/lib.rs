@@ -15,5 +15,7 @@ pub mod bundled;
 pub mod commands;
 pub mod generate;
 pub mod graph;
+pub mod present;
 pub mod report;
+pub mod schema;
 pub mod tui;

@@ -8,8 +8,10 @@ use clap::{Args, Parser, Subcommand, ValueEnum};
 use caymos::analysis::{Analysis, Scope, Solved, analyse, analyse_with};
 use caymos::bundled;
 use caymos::commands;
+use caymos::present::{self, ComponentNo};
 use caymos::report::Report;
 use caymos::scene::Scene;
+use caymos::schema::{ErrorBody, ErrorDoc, ErrorKind, ListDoc, ListedScene, SceneOrigin, Versioned};
 
 #[derive(Parser, Debug)]
 #[command(
@@ -38,6 +40,15 @@ enum GraphFormat {
     /// Graphviz DOT (`caymos graph jansen | dot -Tsvg > jansen.svg`).
     Dot,
     Json,
+}
+
+/// `report`'s formats: also Markdown, a CI job summary (headings and tables,
+/// no colour, no box drawing).
+#[derive(Clone, Copy, Debug, ValueEnum, PartialEq, Eq)]
+enum ReportFormat {
+    Text,
+    Json,
+    Markdown,
 }
 
 /// How the motion commands analyse the scene before they walk it.
@@ -93,7 +104,7 @@ enum Command {
         /// A scene file, or the name of a bundled scene (default: the Jansen leg).
         scene: Option<String>,
         #[arg(long, value_enum, default_value = "text")]
-        format: Format,
+        format: ReportFormat,
         /// The base non-edge as two joint names, e.g. `--base P,X`.
         #[arg(long)]
         base: Option<String>,
@@ -106,9 +117,22 @@ enum Command {
         /// even for a small scene.
         #[arg(long, conflicts_with = "all")]
         lazy: bool,
+        /// Include each phase's wall-clock time (`timings_us` in JSON); without
+        /// it two runs print the same document.
+        #[arg(long)]
+        timings: bool,
     },
-    /// List the bundled scenes.
-    List,
+    /// List the bundled scenes and the hard cases.
+    List {
+        #[arg(long, value_enum, default_value = "text")]
+        format: Format,
+    },
+    /// Print the JSON Schema of a `--format json` document.
+    Schema {
+        /// Which `--format json` document.
+        #[arg(value_parser = clap::builder::PossibleValuesParser::new(caymos::schema::SCHEMAS.iter().map(|(n, _)| *n)))]
+        name: String,
+    },
     /// The linkage graph and its decomposition for Graphviz: joints, bars, clusters, base, construction steps.
     Graph {
         /// A scene file, or the name of a bundled scene (default: the Jansen leg).
@@ -137,9 +161,9 @@ enum Command {
     /// CSV of joint positions along a component or a path.
     Trace {
         scene: Option<String>,
-        /// Component index as in the report (default: the drawn realization's).
-        #[arg(long, conflicts_with_all = ["from", "to"])]
-        component: Option<usize>,
+        /// Component number as in the report, from 1 (default: the drawn realization's).
+        #[arg(long, conflicts_with_all = ["from", "to"], value_parser = component_no)]
+        component: Option<ComponentNo>,
         #[arg(long, requires = "to", allow_hyphen_values = true)]
         from: Option<String>,
         #[arg(long, requires = "from", allow_hyphen_values = true)]
@@ -163,7 +187,7 @@ enum Command {
     /// Closest pair of realizations between two components, by Cayley distance.
     Closest {
         scene: Option<String>,
-        /// Two component indices as in the report, e.g. `0,3`.
+        /// Two component numbers as in the report (from 1), e.g. `1,4`.
         #[arg(long)]
         components: String,
         /// Relative gap to certify the distance to (proven lower bound vs. the pair found).
@@ -197,8 +221,9 @@ enum Command {
     /// SVG of the drawn linkage with the traces of its joints over a component.
     Svg {
         scene: Option<String>,
-        #[arg(long)]
-        component: Option<usize>,
+        /// Component number as in the report, from 1 (default: the drawn realization's).
+        #[arg(long, value_parser = component_no)]
+        component: Option<ComponentNo>,
         #[arg(long)]
         joints: Option<String>,
         #[arg(long)]
@@ -210,21 +235,69 @@ enum Command {
     },
 }
 
-/// An error to print (one line) with its exit code.
+/// An error to print (one line on stderr; with `--format json` also a JSON
+/// document on stdout) with its exit code.
 struct Failure {
-    message: String,
+    body: ErrorBody,
     code: u8,
+}
+
+impl Failure {
+    fn new(kind: ErrorKind, message: String) -> Self {
+        let code = if kind == ErrorKind::OutsideClass { 2 } else { 1 };
+        Failure { body: ErrorBody { kind, message, file: None, line: None, column: None }, code }
+    }
+
+    /// The line for stderr: `file:line:column: message` when there is a place.
+    fn line(&self) -> String {
+        let b = &self.body;
+        match &b.file {
+            Some(file) => caymos::scene::SceneError {
+                file: file.clone(),
+                line: b.line,
+                column: b.column,
+                message: b.message.clone(),
+            }
+            .to_string(),
+            None => b.message.clone(),
+        }
+    }
 }
 
 impl From<caymos::scene::SceneError> for Failure {
     fn from(e: caymos::scene::SceneError) -> Self {
-        Failure { message: e.to_string(), code: 1 }
+        let body = ErrorBody {
+            kind: ErrorKind::Scene,
+            message: e.message,
+            file: Some(e.file),
+            line: e.line,
+            column: e.column,
+        };
+        Failure { body, code: 1 }
     }
 }
 
+/// Whether the command line asks for JSON (`--format json` or `--format=json`),
+/// read from the raw arguments so that even an argument error can be JSON.
+fn json_requested(args: &[String]) -> bool {
+    args.windows(2).any(|w| w[0] == "--format" && w[1] == "json") || args.iter().any(|a| a == "--format=json")
+}
+
 fn main() -> ExitCode {
-    let cli = match Cli::try_parse() {
+    let args: Vec<String> = std::env::args().collect();
+    let json = json_requested(&args);
+    let cli = match Cli::try_parse_from(&args) {
         Ok(cli) => cli,
+        Err(e) if json && e.use_stderr() => {
+            let text = e.to_string();
+            let message = text.lines().next().unwrap_or("").trim_start_matches("error: ").to_string();
+            let _ = e.print();
+            emit(&format!(
+                "{}\n",
+                Versioned::new(ErrorDoc { error: Failure::new(ErrorKind::Arguments, message).body }).to_json()
+            ));
+            return ExitCode::from(1);
+        }
         Err(e) => {
             let code = if e.use_stderr() { 1 } else { 0 };
             let _ = e.print();
@@ -235,7 +308,10 @@ fn main() -> ExitCode {
     match run(command) {
         Ok(code) => ExitCode::from(code),
         Err(f) => {
-            eprintln!("caymos: {}", f.message);
+            eprintln!("caymos: {}", f.line());
+            if json {
+                emit(&format!("{}\n", Versioned::new(ErrorDoc { error: f.body }).to_json()));
+            }
             ExitCode::from(f.code)
         }
     }
@@ -247,26 +323,48 @@ fn run(command: Command) -> Result<u8, Failure> {
             let scene = bundled::resolve(scene.as_deref())?;
             let base = base.map(|b| parse_base(&scene, &b)).transpose()?;
             if !std::io::IsTerminal::is_terminal(&std::io::stdout()) {
-                return Err(Failure {
-                    message: "the terminal UI needs a terminal; for scripts use `caymos report` (see --help)".into(),
-                    code: 1,
-                });
+                return Err(Failure::new(
+                    ErrorKind::Io,
+                    "the terminal UI needs a terminal; for scripts use `caymos report` (see --help)".into(),
+                ));
             }
-            caymos::tui::run(scene, base).map_err(|e| Failure { message: format!("terminal: {e}"), code: 1 })?;
+            caymos::tui::run(scene, base).map_err(|e| Failure::new(ErrorKind::Io, format!("terminal: {e}")))?;
             Ok(0)
         }
-        Command::List => {
+        Command::List { format } => {
+            let mut scenes = Vec::new();
             for b in bundled::BUNDLED {
                 let scene = bundled::load(b.name)?;
-                emit(&format!("{:<24} {}\n", b.name, scene.description.unwrap_or_default()));
+                scenes.push(ListedScene {
+                    name: b.name.to_string(),
+                    description: scene.description,
+                    origin: SceneOrigin::Bundled,
+                });
             }
-            emit("\nHard cases (THEORY.md §6), generated; open them by name like the bundled scenes:\n");
             for h in caymos::generate::hard_cases() {
-                emit(&format!("{:<24} {}\n", h.name, h.description.unwrap_or_default()));
+                scenes.push(ListedScene { name: h.name, description: h.description, origin: SceneOrigin::HardCase });
+            }
+            match format {
+                Format::Json => emit(&format!("{}\n", Versioned::new(ListDoc { scenes }).to_json())),
+                Format::Text => {
+                    let line = |s: &ListedScene| format!("{:<24} {}\n", s.name, s.description.as_deref().unwrap_or(""));
+                    for s in scenes.iter().filter(|s| s.origin == SceneOrigin::Bundled) {
+                        emit(&line(s));
+                    }
+                    emit("\nHard cases (THEORY.md §6), generated; open them by name like the bundled scenes:\n");
+                    for s in scenes.iter().filter(|s| s.origin == SceneOrigin::HardCase) {
+                        emit(&line(s));
+                    }
+                }
             }
             Ok(0)
         }
-        Command::Report { scene, format, base, all, lazy } => {
+        Command::Schema { name } => {
+            let schema = caymos::schema::schema(&name).ok_or_else(|| arg_error(format!("no schema called {name}")))?;
+            emit(&format!("{}\n", serde_json::to_string_pretty(&schema).expect("schemas serialize")));
+            Ok(0)
+        }
+        Command::Report { scene, format, base, all, lazy, timings } => {
             let scene = bundled::resolve(scene.as_deref())?;
             let base = base.map(|b| parse_base(&scene, &b)).transpose()?;
             let scope = if all {
@@ -277,10 +375,11 @@ fn run(command: Command) -> Result<u8, Failure> {
                 Scope::Auto
             };
             let analysis = analyse_with(scene, base, scope)?;
-            let report = Report::new(&analysis);
+            let report = Report::with_timings(&analysis, timings);
             match format {
-                Format::Json => emit(&format!("{}\n", report.to_json())),
-                Format::Text => emit(&report.to_text_with(all)),
+                ReportFormat::Json => emit(&format!("{}\n", report.to_json())),
+                ReportFormat::Text => emit(&report.to_text_with(all)),
+                ReportFormat::Markdown => emit(&report.to_markdown(all)),
             }
             Ok(if report.one_dof_tree_decomposable { 0 } else { 2 })
         }
@@ -289,13 +388,13 @@ fn run(command: Command) -> Result<u8, Failure> {
             let base = base.map(|b| parse_base(&scene, &b)).transpose()?;
             let graph = caymos::graph::graph_report(&scene, base)?;
             match format {
-                GraphFormat::Json => emit(&format!("{}\n", serde_json::to_string_pretty(&graph).expect("serializes"))),
+                GraphFormat::Json => emit(&format!("{}\n", Versioned::new(&graph).to_json())),
                 GraphFormat::Dot => emit(&caymos::graph::to_dot(&graph)),
             }
             // Like `report`: outside the handled class exits 2 (the linkage is still exported).
             match &graph.outside {
                 Some(o) => {
-                    eprintln!("caymos: {}: outside the handled class: {}", scene.source, o.reason);
+                    eprintln!("caymos: {}: outside the handled class: {}", scene.source, o.message);
                     Ok(2)
                 }
                 None => Ok(0),
@@ -305,46 +404,50 @@ fn run(command: Command) -> Result<u8, Failure> {
             let (a, mut s) = solved(scene.as_deref(), &analysis)?;
             commands::include_specs(&mut s, &[&from, &to]);
             let walk = walk_options(&walk, &a)?;
-            let report = commands::path(&a, &s, &from, &to, walk).map_err(arg_error)?;
+            let report = commands::path(&a.linkage, &s, &from, &to, walk).map_err(arg_error)?;
             match format {
-                Format::Json => emit(&format!("{}\n", serde_json::to_string_pretty(&report).expect("serializes"))),
+                Format::Json => emit(&format!("{}\n", Versioned::new(&report).to_json())),
                 Format::Text => emit(&report.to_text()),
             }
-            note_all(commands::lazy_note(&s));
+            note_all(present::lazy_note(&s));
             Ok(0)
         }
         Command::Trace { scene, component, from, to, arc, joints, cayley, output, analysis, walk } => {
             let (a, mut s) = solved(scene.as_deref(), &analysis)?;
             commands::include_specs(&mut s, &[from.as_deref().unwrap_or("drawn"), to.as_deref().unwrap_or("drawn")]);
             if let Some(k) = component {
-                commands::walk_components(&mut s, k + 1);
+                commands::walk_components(&mut s, k.number());
             }
             let walk = walk_options(&walk, &a)?;
-            let joints = commands::parse_joints(&a, joints.as_deref()).map_err(arg_error)?;
+            let joints = commands::parse_joints(&a.linkage, joints.as_deref()).map_err(arg_error)?;
             let between = from.as_deref().zip(to.as_deref()).map(|(f, t)| (f, t, arc));
-            let segments = commands::trace_segments(&a, &s, component, between).map_err(arg_error)?;
-            let summary =
-                write_streamed(output, |out| commands::trace_csv(&a, &s, segments, &joints, walk, cayley, out))?;
-            note_all(commands::lazy_note(&s).into_iter().chain(commands::walk_notes(&summary, walk.max_samples)));
+            let component = component.map(ComponentNo::index);
+            let segments = commands::trace_segments(&a.linkage, &s, component, between).map_err(arg_error)?;
+            let summary = write_streamed(output, |out| {
+                commands::trace_csv(&a.linkage, &s, segments, &joints, walk, cayley, out)
+            })?;
+            note_all(present::lazy_note(&s).into_iter().chain(present::walk_notes(&summary, walk.max_samples)));
             Ok(0)
         }
         Command::Closest { scene, components, gap, format, analysis } => {
             let (a, mut s) = solved(scene.as_deref(), &analysis)?;
-            let pair: Vec<Option<usize>> = components.split(',').map(|x| x.trim().parse().ok()).collect();
+            let pair: Vec<Option<ComponentNo>> = components.split(',').map(ComponentNo::parse).collect();
             let [Some(i), Some(j)] = pair[..] else {
-                return Err(arg_error(format!("--components {components}: give two component indices, e.g. 0,3")));
+                return Err(arg_error(format!(
+                    "--components {components}: give two component numbers as in the report (from 1), e.g. 1,4"
+                )));
             };
-            commands::walk_components(&mut s, i.max(j) + 1);
+            commands::walk_components(&mut s, i.max(j).number());
             let opts = caymos::distance::ClosestOptions { gap, ..Default::default() };
-            let c = commands::closest_with(&a, &s, i, j, opts).map_err(arg_error)?;
+            let c = commands::closest_with(&a.linkage, &s, i.index(), j.index(), opts).map_err(arg_error)?;
             match format {
                 Format::Json => {
-                    emit(&format!("{}\n", serde_json::to_string_pretty(&c).expect("serializes")));
-                    note_all(commands::lazy_note(&s));
+                    emit(&format!("{}\n", Versioned::new(&c).to_json()));
+                    note_all(present::lazy_note(&s));
                 }
                 Format::Text => {
                     emit(&c.to_text());
-                    if let Some(note) = commands::lazy_note(&s) {
+                    if let Some(note) = present::lazy_note(&s) {
                         emit(&format!("  note: {note}\n"));
                     }
                 }
@@ -381,7 +484,7 @@ fn run(command: Command) -> Result<u8, Failure> {
                     }
                     Err(o) => report.skipped.push(caymos::bench::Skipped {
                         scene: analysis.scene.name.clone(),
-                        reason: format!("outside the handled class: {}", o.describe(&analysis.linkage)),
+                        reason: format!("outside the handled class: {}", present::outside(&o, &analysis.linkage)),
                     }),
                 }
             }
@@ -391,7 +494,7 @@ fn run(command: Command) -> Result<u8, Failure> {
                 }
             }
             match format {
-                Format::Json => emit(&format!("{}\n", serde_json::to_string_pretty(&report).expect("serializes"))),
+                Format::Json => emit(&format!("{}\n", Versioned::new(&report).to_json())),
                 Format::Text => emit(&report.to_text()),
             }
             // Like `report`: a named scene outside the class (or nothing benchmarked) exits 2.
@@ -410,17 +513,18 @@ fn run(command: Command) -> Result<u8, Failure> {
         Command::Svg { scene, component, joints, output, analysis, walk } => {
             let (a, mut s) = solved(scene.as_deref(), &analysis)?;
             if let Some(k) = component {
-                commands::walk_components(&mut s, k + 1);
+                commands::walk_components(&mut s, k.number());
             }
             let walk = walk_options(&walk, &a)?;
-            let joints = commands::parse_joints(&a, joints.as_deref()).map_err(arg_error)?;
-            let segments = commands::trace_segments(&a, &s, component, None).map_err(arg_error)?;
+            let joints = commands::parse_joints(&a.linkage, joints.as_deref()).map_err(arg_error)?;
+            let component = component.map(ComponentNo::index);
+            let segments = commands::trace_segments(&a.linkage, &s, component, None).map_err(arg_error)?;
             let svg = commands::svg(&a, &s, segments, &joints, walk);
             write_out(output, &svg.text)?;
             if svg.points_cut {
-                note_all([commands::svg_cut_note(joints.len())]);
+                note_all([present::svg_cut_note(joints.len())]);
             }
-            note_all(commands::lazy_note(&s).into_iter().chain(commands::walk_notes(&svg.walk, walk.max_samples)));
+            note_all(present::lazy_note(&s).into_iter().chain(present::walk_notes(&svg.walk, walk.max_samples)));
             Ok(0)
         }
     }
@@ -446,15 +550,19 @@ fn solved(scene: Option<&str>, args: &AnalysisArgs) -> Result<(Analysis, Solved)
     let scene = bundled::resolve(scene)?;
     let base = args.base.as_deref().map(|b| parse_base(&scene, b)).transpose()?;
     let analysis = analyse_with(scene, base, if args.all { Scope::Full } else { Scope::Auto })?;
+    let at_file = |mut f: Failure| {
+        f.body.file = Some(analysis.scene.source.clone());
+        f
+    };
     match analysis.outcome.clone() {
-        Ok(s) => match commands::no_realization(&analysis, &s) {
-            Some(why) => Err(Failure { message: format!("{}: {why}", analysis.scene.source), code: 1 }),
-            None => Ok((analysis, s)),
+        Ok(s) => match commands::require_component(&analysis.linkage, &s) {
+            Err(why) => Err(at_file(Failure::new(ErrorKind::NoRealization, why))),
+            Ok(()) => Ok((analysis, s)),
         },
-        Err(o) => Err(Failure {
-            message: format!("{}: outside the handled class: {}", analysis.scene.source, o.describe(&analysis.linkage)),
-            code: 2,
-        }),
+        Err(o) => Err(at_file(Failure::new(
+            ErrorKind::OutsideClass,
+            format!("outside the handled class: {}", present::outside(&o, &analysis.linkage)),
+        ))),
     }
 }
 
@@ -466,7 +574,12 @@ fn note_all(notes: impl IntoIterator<Item = String>) {
 }
 
 fn arg_error(message: String) -> Failure {
-    Failure { message, code: 1 }
+    Failure::new(ErrorKind::Arguments, message)
+}
+
+/// A component number as in the report (from 1).
+fn component_no(text: &str) -> Result<ComponentNo, String> {
+    ComponentNo::parse(text).ok_or_else(|| "give a component number as in the report, from 1".into())
 }
 
 /// Stream output to a file or stdout as it is made (buffered); a reader that
@@ -476,7 +589,7 @@ fn write_streamed<R>(
     write: impl FnOnce(&mut dyn std::io::Write) -> std::io::Result<R>,
 ) -> Result<R, Failure> {
     use std::io::Write;
-    let failed = |what: &str, e: std::io::Error| Failure { message: format!("{what}: cannot write: {e}"), code: 1 };
+    let failed = |what: &str, e: std::io::Error| Failure::new(ErrorKind::Io, format!("{what}: cannot write: {e}"));
     match output {
         Some(path) => {
             let file = std::fs::File::create(&path).map_err(|e| failed(&path.display().to_string(), e))?;
@@ -498,7 +611,7 @@ fn write_streamed<R>(
 fn write_out(output: Option<std::path::PathBuf>, text: &str) -> Result<(), Failure> {
     match output {
         Some(path) => std::fs::write(&path, text)
-            .map_err(|e| Failure { message: format!("{}: cannot write: {e}", path.display()), code: 1 }),
+            .map_err(|e| Failure::new(ErrorKind::Io, format!("{}: cannot write: {e}", path.display()))),
         None => {
             emit(text);
             Ok(())
@@ -526,7 +639,7 @@ fn at_least_one(text: &str) -> Result<usize, String> {
 
 /// `A,B` → the two joints' indices.
 fn parse_base(scene: &Scene, text: &str) -> Result<[usize; 2], Failure> {
-    let bad = |m: String| Failure { message: format!("--base {text}: {m}"), code: 1 };
+    let bad = |m: String| arg_error(format!("--base {text}: {m}"));
     let names: Vec<&str> = text.split(',').map(str::trim).collect();
     let [a, b] = names[..] else {
         return Err(bad("give two joint names separated by a comma, e.g. --base P,X".into()));

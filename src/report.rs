@@ -3,14 +3,36 @@
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 
+use schemars::JsonSchema;
 use serde::Serialize;
 
 pub use caymos_core::numfmt::{fmt_num, fmt_sci, fmt_sig};
 
-use crate::analysis::Analysis;
+use crate::analysis::{Analysis, NoRealization, Warning};
+use crate::decompose::Outside;
+use crate::linkage::{Constraint, Linkage};
+use crate::present::{self, ComponentNo, ItemNo, Names, StepNo};
+use crate::realize::Kind;
 
-#[derive(Debug, Clone, Serialize)]
+pub use crate::present::short_type;
+
+/// The version of every `--format json` document (its `schema_version`):
+/// raised when a field is removed or changes meaning, not when one is added.
+pub const SCHEMA_VERSION: u32 = 1;
+
+/// Typed data with its sentence: `{"kind": …, data…, "message": "…"}`. The
+/// kind and data are the contract; the message is for people and may be reworded.
+#[derive(Debug, Clone, PartialEq, Serialize, JsonSchema)]
+pub struct Said<T> {
+    #[serde(flatten)]
+    pub data: T,
+    pub message: String,
+}
+
+#[derive(Debug, Clone, Serialize, JsonSchema)]
 pub struct StepReport {
+    /// The step's number (from 1), as in the text and in events.
+    pub step: StepNo,
     pub vertex: String,
     pub on: [String; 2],
     /// The two clusters of the step: the one holding `on[0]`, the one holding `on[1]`.
@@ -19,39 +41,37 @@ pub struct StepReport {
     pub lengths: [f64; 2],
 }
 
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, JsonSchema)]
 pub struct DrawnReport {
     pub lambda: f64,
     #[serde(rename = "type")]
     pub ty: String,
 }
 
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, JsonSchema)]
 pub struct EventReport {
-    /// Index into `steps`.
-    pub step: usize,
+    /// The step's number (from 1): `steps[step - 1]`.
+    pub step: StepNo,
     pub vertex: String,
-    /// `stretched` or `folded`.
-    pub kind: &'static str,
+    pub kind: Kind,
 }
 
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, JsonSchema)]
 pub struct IntervalReport {
     #[serde(rename = "type")]
     pub ty: String,
     pub lower: f64,
     pub upper: f64,
-    /// The flat step at each end (the first, when several are flat at once).
-    pub lower_event: Option<EventReport>,
-    pub upper_event: Option<EventReport>,
-    /// Every flat step at each end (more than one only in non-generic scenes).
+    /// The flat steps at each end (one in a generic scene; none at an open end).
     pub lower_events: Vec<EventReport>,
     pub upper_events: Vec<EventReport>,
 }
 
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, JsonSchema)]
 pub struct ComponentReport {
-    /// Indices into `oriented_intervals`, in traversal order.
+    /// The component's number (from 1), as in the text and `--component`.
+    pub component: ComponentNo,
+    /// Indices (from 0) into `oriented_intervals`, in traversal order.
     pub intervals: Vec<usize>,
     pub lambda_range: [f64; 2],
     pub contains_drawn: bool,
@@ -59,9 +79,17 @@ pub struct ComponentReport {
     pub closed: bool,
 }
 
-#[derive(Debug, Clone, Serialize)]
+/// The arithmetic the f64 endpoints are checked against.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, JsonSchema)]
+#[serde(rename_all = "snake_case")]
+pub enum ReferenceArithmetic {
+    /// Double-double (106-bit significand).
+    DoubleDouble,
+}
+
+#[derive(Debug, Clone, Serialize, JsonSchema)]
 pub struct AccuracyReport {
-    pub reference: &'static str,
+    pub reference: ReferenceArithmetic,
     /// Largest |λ − λ_reference| over all endpoints, in scene units.
     pub max_endpoint_error_estimate: f64,
     /// The same divided by the scene scale.
@@ -73,70 +101,151 @@ pub struct AccuracyReport {
     pub refined_in_double_double: bool,
 }
 
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, JsonSchema)]
 pub struct SketchReport {
     pub max_length_change: f64,
-    pub max_joint_move: f64,
+    /// `null` when the drawn type has no realization (see the warnings).
+    pub max_joint_move: Option<f64>,
 }
 
-/// A type for a text table: long ones (many steps) keep their ends.
-pub fn short_type(ty: &str) -> String {
-    let n = ty.chars().count();
-    if n <= 40 {
-        return ty.to_string();
+/// How much of the realization space was computed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, JsonSchema)]
+#[serde(rename_all = "snake_case")]
+pub enum AnalysisKind {
+    /// Every type and every component.
+    Full,
+    /// Only the component through the drawn realization (more than 2^16
+    /// types, or `--lazy`; `--all` forces full).
+    Lazy,
+}
+
+/// How the interval endpoints were found.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, JsonSchema)]
+#[serde(rename_all = "snake_case")]
+pub enum EndpointMethod {
+    /// In closed form (low Cayley complexity).
+    Exact,
+    /// In closed form, and by the numeric search for `numeric_steps`.
+    ExactNumeric,
+    /// By the lazy walk, Newton to full precision.
+    Lazy,
+}
+
+/// A bar or body the pebble game found redundant.
+#[derive(Debug, Clone, PartialEq, Serialize, JsonSchema)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum ConstraintReport {
+    Bar { bar: ItemNo, joints: Vec<String> },
+    Body { body: ItemNo, joints: Vec<String> },
+}
+
+/// Why a scene is outside the handled class, joints by name.
+#[derive(Debug, Clone, PartialEq, Serialize, JsonSchema)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum OutsideReport {
+    Disconnected { parts: Vec<Vec<String>> },
+    OverConstrained { redundant: Vec<ConstraintReport>, dof: usize },
+    Rigid { tree_decomposable: bool },
+    ManyDof { dof: usize },
+    NotTreeDecomposable,
+}
+
+impl OutsideReport {
+    /// The data of `o`, joints by name.
+    pub fn new(o: &Outside, l: &Linkage) -> Self {
+        let names = |js: &[usize]| js.iter().map(|&j| l.names[j].clone()).collect::<Vec<_>>();
+        match o {
+            Outside::Disconnected { parts } => {
+                OutsideReport::Disconnected { parts: parts.iter().map(|p| names(p)).collect() }
+            }
+            Outside::OverConstrained { redundant, dof } => OutsideReport::OverConstrained {
+                redundant: redundant
+                    .iter()
+                    .map(|c| match *c {
+                        Constraint::Bar(i) => {
+                            ConstraintReport::Bar { bar: ItemNo::of_index(i), joints: names(&l.bars[i].joints) }
+                        }
+                        Constraint::Body(i) => {
+                            ConstraintReport::Body { body: ItemNo::of_index(i), joints: names(&l.bodies[i]) }
+                        }
+                    })
+                    .collect(),
+                dof: *dof,
+            },
+            Outside::Rigid { tree_decomposable } => OutsideReport::Rigid { tree_decomposable: *tree_decomposable },
+            Outside::ManyDof { dof } => OutsideReport::ManyDof { dof: *dof },
+            Outside::NotTreeDecomposable => OutsideReport::NotTreeDecomposable,
+        }
     }
-    let head: String = ty.chars().take(16).collect();
-    let tail: String = ty.chars().skip(n - 8).collect();
-    format!("{head}…{tail} ({n} signs)")
+}
+
+/// Where the four-cycle test fails, joints by name.
+#[derive(Debug, Clone, Serialize, JsonSchema)]
+pub struct LccFailureReport {
+    pub step: StepNo,
+    /// Pairs of built clusters holding the step's base joints that share no
+    /// joint (opposite in a four-cycle); empty when there is no such pair.
+    pub opposite_clusters: Vec<[Vec<String>; 2]>,
+    pub message: String,
 }
 
 /// Everything `report` prints; the JSON form is this struct.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, JsonSchema)]
 pub struct Report {
     pub scene: String,
     pub description: Option<String>,
     pub source: String,
     pub joints: Vec<String>,
+    /// (joint, joint, length), numbered from 1 in file order as in messages.
     pub bars: Vec<(String, String, f64)>,
     pub bodies: Vec<Vec<String>>,
     pub scale: f64,
     pub one_dof_tree_decomposable: bool,
+    /// Why the scene is outside the handled class, in words (`outside` as data).
     pub reason: Option<String>,
-    pub reason_kind: Option<String>,
+    pub outside: Option<OutsideReport>,
     pub base: Option<[String; 2]>,
     pub base_chosen_automatically: bool,
     pub other_bases: Vec<[String; 2]>,
     pub steps: Vec<StepReport>,
     pub low_cayley_complexity: Option<bool>,
-    pub lcc_failure: Option<String>,
+    pub lcc_failure: Option<LccFailureReport>,
     pub complete_cayley_vector: Vec<[String; 2]>,
     pub drawn: Option<DrawnReport>,
     pub sketch: Option<SketchReport>,
-    /// `full` (every type) or `lazy` (only the component through the drawn
-    /// realization: the scene has more than 2^16 types; `--all` forces full).
-    pub analysis: &'static str,
+    pub analysis: AnalysisKind,
     /// The non-oriented Cayley configuration space: disjoint closed intervals
     /// (in a lazy analysis: the λ range of the components computed).
     pub cayley_space: Vec<[f64; 2]>,
     pub oriented_intervals: Vec<IntervalReport>,
-    /// `exact` (closed form, LCC) or `numeric`; steps searched numerically.
-    pub endpoint_method: Option<&'static str>,
-    pub numeric_steps: Vec<usize>,
+    pub endpoint_method: Option<EndpointMethod>,
+    /// Steps whose endpoints came from the numeric search.
+    pub numeric_steps: Vec<StepNo>,
     pub accuracy: Option<AccuracyReport>,
     pub components: Vec<ComponentReport>,
-    /// Why there is no component, in words (`None` when there is one).
-    pub no_realization: Option<String>,
+    /// Why there is no component (`null` when there is one).
+    pub no_realization: Option<Said<NoRealization>>,
     /// The complete Cayley vector cannot tell mirror images apart (all clusters achiral).
     pub mirror_pairs: bool,
-    pub warnings: Vec<String>,
-    pub timings_us: BTreeMap<String, f64>,
+    pub warnings: Vec<Said<Warning>>,
+    /// Wall-clock time of each phase in µs: `null` unless `--timings` (so
+    /// two runs print the same document).
+    pub timings_us: Option<BTreeMap<String, f64>>,
 }
 
 impl Report {
+    /// The report of an analysis, without timings (the same document every run).
     pub fn new(a: &Analysis) -> Report {
+        Report::with_timings(a, false)
+    }
+
+    /// [`Report::new`], with the phase times when `timings` (they differ from run to run).
+    pub fn with_timings(a: &Analysis, timings: bool) -> Report {
         let l = &a.linkage;
         let name = |j: usize| l.names[j].clone();
         let pair = |p: [usize; 2]| [name(p[0]), name(p[1])];
+        let steps = a.outcome.as_ref().map(|s| s.dec.steps.as_slice()).unwrap_or(&[]);
+        let names = Names::new(l, steps);
         let mut r = Report {
             scene: a.scene.name.clone(),
             description: a.scene.description.clone(),
@@ -147,7 +256,7 @@ impl Report {
             scale: l.scale,
             one_dof_tree_decomposable: a.outcome.is_ok(),
             reason: None,
-            reason_kind: None,
+            outside: None,
             base: None,
             base_chosen_automatically: false,
             other_bases: Vec::new(),
@@ -157,7 +266,7 @@ impl Report {
             complete_cayley_vector: Vec::new(),
             drawn: None,
             sketch: None,
-            analysis: "full",
+            analysis: AnalysisKind::Full,
             cayley_space: Vec::new(),
             oriented_intervals: Vec::new(),
             endpoint_method: None,
@@ -166,14 +275,17 @@ impl Report {
             components: Vec::new(),
             no_realization: None,
             mirror_pairs: false,
-            warnings: a.warnings.clone(),
-            timings_us: a.timings.0.iter().map(|(k, v)| (k.to_string(), *v)).collect(),
+            warnings: a
+                .warnings
+                .iter()
+                .map(|w| Said { data: w.clone(), message: present::warning(w, names) })
+                .collect(),
+            timings_us: timings.then(|| a.timings.0.iter().map(|(k, v)| (k.to_string(), *v)).collect()),
         };
-        r.warnings.extend(body_bar_warnings(a));
         match &a.outcome {
             Err(outside) => {
-                r.reason = Some(outside.describe(l));
-                r.reason_kind = Some(outside.kind().to_string());
+                r.reason = Some(present::outside(outside, l));
+                r.outside = Some(OutsideReport::new(outside, l));
             }
             Ok(s) => {
                 r.base = Some(pair(s.dec.base));
@@ -184,7 +296,9 @@ impl Report {
                     .steps
                     .iter()
                     .zip(&s.construction.steps)
-                    .map(|(st, g)| StepReport {
+                    .enumerate()
+                    .map(|(k, (st, g))| StepReport {
+                        step: StepNo::of_index(k),
                         vertex: name(st.vertex),
                         on: [name(st.u), name(st.w)],
                         clusters: [st.cluster_u, st.cluster_w]
@@ -193,18 +307,26 @@ impl Report {
                     })
                     .collect();
                 r.low_cayley_complexity = Some(s.complexity.low);
-                r.lcc_failure = s.complexity.failure.as_ref().map(|f| f.message.clone());
+                r.lcc_failure = s.complexity.failure.as_ref().map(|f| LccFailureReport {
+                    step: StepNo::of_index(f.step),
+                    opposite_clusters: f
+                        .opposite
+                        .iter()
+                        .map(|[x, y]| [x, y].map(|c| c.iter().map(|&j| name(j)).collect()))
+                        .collect(),
+                    message: present::lcc_failure(f, names),
+                });
                 r.complete_cayley_vector = s.complexity.ccv.iter().map(|&p| pair(p)).collect();
                 r.drawn = Some(DrawnReport { lambda: s.drawn.lambda, ty: s.drawn.ty.to_string() });
-                r.sketch = s
-                    .sketch
-                    .as_ref()
-                    .map(|f| SketchReport { max_length_change: f.max_length_change, max_joint_move: f.max_joint_move });
+                r.sketch = s.sketch.as_ref().map(|f| SketchReport {
+                    max_length_change: f.max_length_change,
+                    max_joint_move: Some(f.max_joint_move).filter(|m| m.is_finite()),
+                });
                 r.cayley_space = s.union.clone();
                 let event = |e: &crate::realize::Event| EventReport {
-                    step: e.step,
+                    step: StepNo::of_index(e.step),
                     vertex: name(s.dec.steps[e.step].vertex),
-                    kind: e.kind.name(),
+                    kind: e.kind,
                 };
                 r.oriented_intervals = s
                     .space
@@ -214,22 +336,20 @@ impl Report {
                         ty: i.ty.to_string(),
                         lower: i.lower.lambda,
                         upper: i.upper.lambda,
-                        lower_event: i.lower.events.first().map(event),
-                        upper_event: i.upper.events.first().map(event),
                         lower_events: i.lower.events.iter().map(event).collect(),
                         upper_events: i.upper.events.iter().map(event).collect(),
                     })
                     .collect();
-                r.analysis = if s.lazy { "lazy" } else { "full" };
+                r.analysis = if s.lazy { AnalysisKind::Lazy } else { AnalysisKind::Full };
                 r.endpoint_method = Some(if s.lazy {
-                    "lazy"
+                    EndpointMethod::Lazy
                 } else if s.space.numeric_steps.is_empty() {
-                    "exact"
+                    EndpointMethod::Exact
                 } else {
-                    "exact+numeric"
+                    EndpointMethod::ExactNumeric
                 });
                 if !s.lazy {
-                    r.numeric_steps = s.space.numeric_steps.clone();
+                    r.numeric_steps = s.space.numeric_steps.iter().map(|&k| StepNo::of_index(k)).collect();
                 }
                 r.components = s
                     .components
@@ -237,16 +357,18 @@ impl Report {
                     .iter()
                     .enumerate()
                     .map(|(k, c)| ComponentReport {
+                        component: ComponentNo::of_index(k),
                         intervals: c.intervals.clone(),
                         lambda_range: c.lambda_range,
                         contains_drawn: s.drawn_component == Some(k),
                         closed: c.closed,
                     })
                     .collect();
-                r.no_realization = crate::commands::no_realization(a, s);
+                r.no_realization = crate::analysis::no_realization(s, l.scale)
+                    .map(|why| Said { message: present::no_realization(&why, names, &s.construction), data: why });
                 r.mirror_pairs = crate::cayley_vector::mirror_images_exist(&s.construction, &s.dec);
                 r.accuracy = s.accuracy.as_ref().map(|acc| AccuracyReport {
-                    reference: "double-double (106-bit)",
+                    reference: ReferenceArithmetic::DoubleDouble,
                     max_endpoint_error_estimate: acc.max_endpoint_error,
                     max_relative_error_estimate: acc.max_relative_error,
                     max_error_of_value: acc.max_error_of_value,
@@ -258,8 +380,9 @@ impl Report {
         r
     }
 
+    /// The JSON document (with `schema_version`).
     pub fn to_json(&self) -> String {
-        serde_json::to_string_pretty(self).expect("report serializes")
+        crate::schema::Versioned::new(self).to_json()
     }
 
     /// The text form: aligned tables, for people. `all` lists every oriented
@@ -306,11 +429,10 @@ impl Report {
         let rows: Vec<[String; 5]> = self
             .steps
             .iter()
-            .enumerate()
-            .map(|(k, s)| {
+            .map(|s| {
                 [
-                    format!("{}", k + 1),
-                    format!("{} ◁ ({}, {})", s.vertex, s.on[0], s.on[1]),
+                    s.step.to_string(),
+                    present::step_shape(&s.vertex, &s.on[0], &s.on[1]),
                     format!("{{{}}}", s.clusters[0].join(",")),
                     format!("{{{}}}", s.clusters[1].join(",")),
                     format!("{}, {}", fmt_num(s.lengths[0]), fmt_num(s.lengths[1])),
@@ -321,7 +443,7 @@ impl Report {
         let _ = writeln!(o);
         let lcc = match (self.low_cayley_complexity, &self.lcc_failure) {
             (Some(true), _) => "yes (four-cycle test)".to_string(),
-            (_, Some(f)) => format!("no: {f}"),
+            (_, Some(f)) => format!("no: {}", f.message),
             _ => "unknown".to_string(),
         };
         let _ = writeln!(o, "{:<24}{lcc}", "Low Cayley complexity");
@@ -336,10 +458,9 @@ impl Report {
             let _ = writeln!(o, "{:<24}λ = {}  type {}", "Drawn realization", fmt_num(d.lambda), short_type(&d.ty));
         }
         if let Some(s) = &self.sketch {
-            let moved = if s.max_joint_move.is_finite() {
-                format!("joints moved up to {}", fmt_sci(s.max_joint_move))
-            } else {
-                "the drawn type has no realization (see warnings)".to_string()
+            let moved = match s.max_joint_move {
+                Some(m) => format!("joints moved up to {}", fmt_sci(m)),
+                None => "the drawn type has no realization (see warnings)".to_string(),
             };
             let _ = writeln!(
                 o,
@@ -359,7 +480,7 @@ impl Report {
             self.cayley_space.iter().map(|[a, b]| format!("[{}, {}]", fmt_num(*a), fmt_num(*b))).collect();
         let n_types = 1usize.checked_shl(self.steps.len() as u32).unwrap_or(usize::MAX);
         let n_types_text = if n_types == usize::MAX { format!("2^{}", self.steps.len()) } else { n_types.to_string() };
-        let lazy = self.analysis == "lazy";
+        let lazy = self.analysis == AnalysisKind::Lazy;
         if lazy {
             let _ = writeln!(
                 o,
@@ -384,11 +505,11 @@ impl Report {
             types.len(),
             n_types_text,
             match self.endpoint_method {
-                Some("exact") => "endpoints in closed form".to_string(),
-                Some("lazy") => "endpoints by the lazy walk, Newton to full precision".to_string(),
+                Some(EndpointMethod::Exact) => "endpoints in closed form".to_string(),
+                Some(EndpointMethod::Lazy) => "endpoints by the lazy walk, Newton to full precision".to_string(),
                 _ => format!(
                     "closed form, and numeric search for steps {}",
-                    self.numeric_steps.iter().map(|k| (k + 1).to_string()).collect::<Vec<_>>().join(", ")
+                    self.numeric_steps.iter().map(|k| k.to_string()).collect::<Vec<_>>().join(", ")
                 ),
             }
         );
@@ -427,24 +548,16 @@ impl Report {
                 self.oriented_intervals.len()
             );
         }
-        let ev = |e: &Option<EventReport>, all: &[EventReport]| match e {
+        let ev = |all: &[EventReport]| match all.first() {
             Some(e) => {
                 let extra = if all.len() > 1 { format!(" +{}", all.len() - 1) } else { String::new() };
-                format!("{} {} (step {}){extra}", e.vertex, e.kind, e.step + 1)
+                format!("{} {} (step {}){extra}", e.vertex, e.kind.name(), e.step)
             }
             None => "-".to_string(),
         };
         let rows: Vec<[String; 5]> = shown
             .iter()
-            .map(|i| {
-                [
-                    short_type(&i.ty),
-                    fmt_num(i.lower),
-                    fmt_num(i.upper),
-                    ev(&i.lower_event, &i.lower_events),
-                    ev(&i.upper_event, &i.upper_events),
-                ]
-            })
+            .map(|i| [short_type(&i.ty), fmt_num(i.lower), fmt_num(i.upper), ev(&i.lower_events), ev(&i.upper_events)])
             .collect();
         write_table(o, &["type", "lower", "upper", "lower event", "upper event"], &rows);
         let _ = writeln!(o);
@@ -454,7 +567,7 @@ impl Report {
 
     fn write_components(&self, o: &mut String) {
         if let Some(why) = &self.no_realization {
-            let _ = writeln!(o, "{:<24}0: {why}", "Components");
+            let _ = writeln!(o, "{:<24}0: {}", "Components", why.message);
             return;
         }
         let _ = writeln!(
@@ -467,8 +580,7 @@ impl Report {
         let rows: Vec<[String; 4]> = self
             .components
             .iter()
-            .enumerate()
-            .map(|(k, c)| {
+            .map(|c| {
                 let types: Vec<String> =
                     c.intervals.iter().map(|&i| short_type(&self.oriented_intervals[i].ty)).collect();
                 let shown = if types.len() > 6 {
@@ -477,7 +589,7 @@ impl Report {
                     types.join(" ")
                 };
                 [
-                    format!("{k}{}", if c.contains_drawn { " *" } else { "" }),
+                    format!("{}{}", c.component, if c.contains_drawn { " *" } else { "" }),
                     c.intervals.len().to_string(),
                     format!(
                         "[{}, {}]{}",
@@ -544,31 +656,165 @@ impl Report {
         } else {
             let _ = writeln!(o, "Warnings");
             for w in &self.warnings {
-                let _ = writeln!(o, "  - {w}");
+                let _ = writeln!(o, "  - {}", w.message);
             }
         }
     }
 }
 
-/// One warning per bar that repeats a body it agrees with (recognition ignores it).
-fn body_bar_warnings(a: &Analysis) -> Vec<String> {
-    let l = &a.linkage;
-    crate::decompose::bars_within_bodies(l)
-        .into_iter()
-        .filter(|b| b.agrees)
-        .map(|b| {
-            let line = a.scene.bars.get(b.bar).map_or(0, |bar| bar.line);
-            let at = if line > 0 { format!(", line {line}") } else { String::new() };
-            let body: Vec<&str> = l.bodies[b.body].iter().map(|&j| l.names[j].as_str()).collect();
-            format!(
-                "bar {} ({}{at}) joins two joints of body {} [{}], which already holds them at that length: the bar adds nothing and is ignored",
-                b.bar + 1,
-                l.pair_name(l.bars[b.bar].joints),
-                b.body + 1,
-                body.join(", ")
-            )
-        })
-        .collect()
+impl Report {
+    /// Markdown for a CI job summary: headings and tables, no colour, no box
+    /// drawing. `all` lists every oriented interval however many.
+    pub fn to_markdown(&self, all: bool) -> String {
+        let mut o = String::new();
+        let _ = writeln!(o, "## caymos report: {}\n", md(&self.scene));
+        if let Some(d) = &self.description {
+            let _ = writeln!(o, "{}\n", md(d));
+        }
+        let mut facts: Vec<[String; 2]> = vec![
+            ["Source".into(), format!("`{}`", self.source)],
+            [
+                "Size".into(),
+                format!(
+                    "{} joints, {} bars, {} bodies, scale {}",
+                    self.joints.len(),
+                    self.bars.len(),
+                    self.bodies.len(),
+                    fmt_num(self.scale)
+                ),
+            ],
+        ];
+        if !self.one_dof_tree_decomposable {
+            facts.push(["Class".into(), "outside the handled class".into()]);
+            facts.push(["Reason".into(), md(self.reason.as_deref().unwrap_or("?"))]);
+            md_table(&mut o, &["", ""], &facts);
+            self.md_warnings(&mut o);
+            return o;
+        }
+        facts.push(["Class".into(), "1-dof tree-decomposable".into()]);
+        if let Some([a, b]) = &self.base {
+            let how = if self.base_chosen_automatically { "chosen automatically" } else { "given" };
+            facts.push(["Base non-edge".into(), md(&format!("{a}–{b} ({how})"))]);
+        }
+        let lcc = match (self.low_cayley_complexity, &self.lcc_failure) {
+            (Some(true), _) => "yes (four-cycle test)".to_string(),
+            (_, Some(f)) => format!("no: {}", f.message),
+            _ => "unknown".to_string(),
+        };
+        facts.push(["Low Cayley complexity".into(), md(&lcc)]);
+        if let Some(d) = &self.drawn {
+            facts
+                .push(["Drawn realization".into(), format!("λ = {}, type `{}`", fmt_num(d.lambda), short_type(&d.ty))]);
+        }
+        let spans: Vec<String> =
+            self.cayley_space.iter().map(|[a, b]| format!("[{}, {}]", fmt_num(*a), fmt_num(*b))).collect();
+        let label = if self.analysis == AnalysisKind::Lazy { "Component spans (lazy)" } else { "Cayley space" };
+        facts.push([label.into(), if spans.is_empty() { "empty: no realization".into() } else { spans.join(" ∪ ") }]);
+        if let Some(a) = &self.accuracy {
+            facts.push([
+                "Accuracy".into(),
+                format!(
+                    "within {} of the double-double run{}",
+                    fmt_sci(a.max_endpoint_error_estimate),
+                    if a.same_structure { "" } else { "; **structure differs**" }
+                ),
+            ]);
+        }
+        md_table(&mut o, &["", ""], &facts);
+        let _ = writeln!(o, "\n### Construction steps ({})\n", self.steps.len());
+        let rows: Vec<[String; 3]> = self
+            .steps
+            .iter()
+            .map(|s| {
+                [
+                    s.step.to_string(),
+                    md(&present::step_shape(&s.vertex, &s.on[0], &s.on[1])),
+                    format!("{}, {}", fmt_num(s.lengths[0]), fmt_num(s.lengths[1])),
+                ]
+            })
+            .collect();
+        md_table(&mut o, &["#", "step", "|uv|, |wv|"], &rows);
+        let _ = writeln!(o, "\n### Components ({})\n", self.components.len());
+        if let Some(why) = &self.no_realization {
+            let _ = writeln!(o, "{}", md(&why.message));
+        } else {
+            let rows: Vec<[String; 4]> = self
+                .components
+                .iter()
+                .map(|c| {
+                    [
+                        c.component.to_string(),
+                        c.intervals.len().to_string(),
+                        format!(
+                            "[{}, {}]{}",
+                            fmt_num(c.lambda_range[0]),
+                            fmt_num(c.lambda_range[1]),
+                            if c.closed { "" } else { " open" }
+                        ),
+                        if c.contains_drawn { "yes".into() } else { String::new() },
+                    ]
+                })
+                .collect();
+            md_table(&mut o, &["#", "intervals", "λ range", "drawn"], &rows);
+        }
+        let many = self.oriented_intervals.len() > 32 && !all;
+        let drawn_ty = self.drawn.as_ref().map(|d| d.ty.as_str()).unwrap_or("");
+        let shown: Vec<&IntervalReport> =
+            self.oriented_intervals.iter().filter(|i| !many || i.ty == drawn_ty).collect();
+        if !shown.is_empty() {
+            let _ = writeln!(
+                o,
+                "\n### Oriented intervals ({}{})\n",
+                self.oriented_intervals.len(),
+                if many { ", the drawn type's shown" } else { "" }
+            );
+            let ev = |all: &[EventReport]| {
+                let list: Vec<String> =
+                    all.iter().map(|e| format!("{} {} (step {})", e.vertex, e.kind.name(), e.step)).collect();
+                if list.is_empty() { "-".to_string() } else { md(&list.join(", ")) }
+            };
+            let rows: Vec<[String; 5]> = shown
+                .iter()
+                .map(|i| {
+                    [
+                        format!("`{}`", short_type(&i.ty)),
+                        fmt_num(i.lower),
+                        fmt_num(i.upper),
+                        ev(&i.lower_events),
+                        ev(&i.upper_events),
+                    ]
+                })
+                .collect();
+            md_table(&mut o, &["type", "lower", "upper", "lower event", "upper event"], &rows);
+        }
+        self.md_warnings(&mut o);
+        o
+    }
+
+    fn md_warnings(&self, o: &mut String) {
+        let _ = writeln!(o, "\n### Warnings ({})\n", self.warnings.len());
+        if self.warnings.is_empty() {
+            let _ = writeln!(o, "None.");
+        }
+        for w in &self.warnings {
+            let _ = writeln!(o, "- {}", md(&w.message));
+        }
+    }
+}
+
+/// Text safe in a Markdown table cell: `|` escaped, no line breaks.
+fn md(text: &str) -> String {
+    text.replace('|', "\\|").replace('\n', " ")
+}
+
+/// A GitHub-flavoured Markdown table.
+fn md_table<const N: usize>(o: &mut String, header: &[&str; N], rows: &[[String; N]]) {
+    let header: Vec<String> = header.iter().map(|h| md(h)).collect();
+    let _ = writeln!(o, "| {} |", header.join(" | "));
+    let _ = writeln!(o, "|{}", " --- |".repeat(N));
+    for row in rows {
+        let _ = writeln!(o, "| {} |", row.join(" | "));
+    }
 }
 
 /// Columns padded to their widest cell (by characters, so `◁` counts as one).

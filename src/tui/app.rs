@@ -232,10 +232,11 @@ impl App {
             Err(message) => Screen::Failed { scene, message },
             Ok(a) => match &a.outcome {
                 Err(outside) => {
-                    let message = format!("outside the handled class: {}", outside.describe(&a.linkage));
+                    let message =
+                        format!("outside the handled class: {}", crate::present::outside(outside, &a.linkage));
                     Screen::Failed { scene: a.scene.name.clone(), message }
                 }
-                Ok(solved) => match commands::no_realization(&a, solved) {
+                Ok(solved) => match commands::require_component(&a.linkage, solved).err() {
                     Some(why) => Screen::Empty { analysis: Box::new(a), why },
                     None => Screen::Ready(Box::new(Model::new(a))),
                 },
@@ -566,8 +567,7 @@ impl Model {
                     let before = self.n_components();
                     let s = solved_of_mut(&mut self.analysis);
                     if commands::walk_components(s, before + 1) == before {
-                        // The missing component's number as shown: 1-based.
-                        note = Some(commands::missing_component(s, before + 1));
+                        note = Some(crate::present::missing_component(s, before));
                     }
                 }
                 let n = self.n_components();
@@ -673,7 +673,7 @@ impl Model {
         let [Some(a), Some(b)] = &self.marks.slots else { return Ok(()) };
         let (an, s) = (&self.analysis, solved_of(&self.analysis));
         let walk = Walk { step: self.pace.step, max_samples: tolerance::TUI_MAX_SAMPLES };
-        let report = commands::path(an, s, &a.at.to_string(), &b.at.to_string(), walk)?;
+        let report = commands::path(&an.linkage, s, &a.at.to_string(), &b.at.to_string(), walk)?;
         if report.same_component {
             let ia = locate(&s.space, &a.at, an.linkage.scale).ok_or("A is no longer located")?;
             let ib = locate(&s.space, &b.at, an.linkage.scale).ok_or("B is no longer located")?;
@@ -690,8 +690,9 @@ impl Model {
         let scale = self.analysis.linkage.scale;
         if text.contains('@') || text == "drawn" {
             commands::include_specs(solved_of_mut(&mut self.analysis), &[text]);
-            let (r, i) = commands::resolve_realization(&self.analysis, self.solved(), text)?;
-            let k = self.solved().components.of_interval[i];
+            let s = self.solved();
+            let (r, i) = commands::resolve_realization(s, text)?;
+            let k = s.components.of_interval[i];
             self.enter_component(k, Some((i, r.lambda)));
             return Ok(());
         }

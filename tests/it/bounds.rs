@@ -7,12 +7,6 @@
 use crate::helpers::*;
 use std::path::Path;
 
-fn write(dir: &Path, name: &str, text: &str) -> String {
-    let path = dir.join(name);
-    std::fs::write(&path, text).unwrap();
-    path.to_str().unwrap().to_string()
-}
-
 /// CSV rows (header dropped), each split into cells.
 fn csv_rows(text: &str) -> Vec<Vec<String>> {
     text.lines().skip(1).map(|l| l.split(',').map(str::to_string).collect()).collect()
@@ -39,13 +33,14 @@ fn a_scene_with_no_realization_is_explained_by_every_command() {
     assert!(!text.contains("holds the drawn realization"), "no legend for an empty table: {text}");
     let json: serde_json::Value =
         serde_json::from_slice(&caymos(&["report", &file, "--format", "json"]).stdout).unwrap();
-    assert!(json["no_realization"].as_str().unwrap().starts_with("no realization: the base A–C"));
+    assert_eq!(json["no_realization"]["kind"], "base_ranges_miss");
+    assert!(json["no_realization"]["message"].as_str().unwrap().starts_with("no realization: the base A–C"));
     assert_eq!(json["components"].as_array().unwrap().len(), 0);
     for args in [
         vec!["trace", file.as_str()],
         vec!["svg", file.as_str()],
         vec!["path", file.as_str(), "--from", "drawn", "--to", "drawn"],
-        vec!["closest", file.as_str(), "--components", "0,1"],
+        vec!["closest", file.as_str(), "--components", "1,2"],
     ] {
         let out = caymos(&args);
         assert_eq!(out.status.code(), Some(1), "{args:?}");
@@ -111,7 +106,7 @@ fn peaucellier_marks_its_degenerate_pass_at_lambda_2() {
     let components = report["components"].as_array().unwrap().clone();
     let mut ends_or_marks_at_2 = 0;
     for (k, c) in components.iter().enumerate() {
-        let out = caymos(&["trace", "peaucellier", "--component", &k.to_string(), "--step", "0.05"]);
+        let out = caymos(&["trace", "peaucellier", "--component", &(k + 1).to_string(), "--step", "0.05"]);
         assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
         let csv = stdout(&out);
         let jumps = assert_no_silent_jump(&csv, 0.05);
@@ -138,7 +133,7 @@ fn a_rhombus_walk_has_no_silent_jump() {
     let file = write(&dir, "rhombus.toml", &caymos::generate::to_toml(&caymos::generate::four_bar(2.0, 2.0, 2.0, 2.0)));
     let report: serde_json::Value =
         serde_json::from_slice(&caymos(&["report", &file, "--format", "json"]).stdout).unwrap();
-    for k in 0..report["components"].as_array().unwrap().len() {
+    for k in 1..=report["components"].as_array().unwrap().len() {
         let out = caymos(&["trace", &file, "--component", &k.to_string(), "--step", "0.02"]);
         assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
         assert_no_silent_jump(&stdout(&out), 0.02);
@@ -238,7 +233,7 @@ fn long_and_degenerate_scenes_stay_within_the_sample_budget() {
     let report: serde_json::Value =
         serde_json::from_slice(&caymos(&["report", "peaucellier", "--base", "A,B", "--format", "json"]).stdout)
             .unwrap();
-    for k in 0..report["components"].as_array().unwrap().len() {
+    for k in 1..=report["components"].as_array().unwrap().len() {
         let k = k.to_string();
         let out = caymos(&["trace", "peaucellier", "--base", "A,B", "--component", &k]);
         assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
@@ -260,12 +255,12 @@ fn long_and_degenerate_scenes_stay_within_the_sample_budget() {
 fn lazy_commands_walk_requested_components_and_say_what_was_walked() {
     let dir = scratch("lazy");
     let chain = write(&dir, "chain20.toml", &stdout(&caymos(&["generate", "chain", "--steps", "20"])));
-    let out = caymos(&["closest", &chain, "--components", "0,1"]);
+    let out = caymos(&["closest", &chain, "--components", "1,2"]);
     assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
     let text = stdout(&out);
-    assert!(text.contains("Closest pair between components 0 and 1"), "{text}");
+    assert!(text.contains("Closest pair between components 1 and 2"), "{text}");
     assert!(text.contains("2 components walked"), "{text}");
-    let out = caymos(&["trace", &chain, "--component", "1", "--joints", "V1"]);
+    let out = caymos(&["trace", &chain, "--component", "2", "--joints", "V1"]);
     assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
     assert!(stderr(&out).contains("lazy analysis") && stderr(&out).contains("2 components walked"));
     // More than the walk finds: said as what was walked, not as what exists.
@@ -274,7 +269,7 @@ fn lazy_commands_walk_requested_components_and_say_what_was_walked() {
     let err = stderr(&out);
     assert!(err.contains("walked lazily") && err.contains("--all") && !err.contains("this scene has"), "{err}");
     // --all: the full analysis, numbered as `report --all` (a small scene here).
-    let out = caymos(&["closest", "jansen", "--components", "0,2", "--all"]);
+    let out = caymos(&["closest", "jansen", "--components", "1,3", "--all"]);
     assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
     assert!(!stdout(&out).contains("lazy"));
     std::fs::remove_dir_all(&dir).ok();
@@ -361,8 +356,11 @@ fn a_bar_along_a_body_edge_is_accepted_if_it_agrees_and_named_if_not() {
     assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
     let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(json["one_dof_tree_decomposable"], true);
-    let warnings: Vec<&str> = json["warnings"].as_array().unwrap().iter().map(|w| w.as_str().unwrap()).collect();
-    assert!(warnings.iter().any(|w| w.contains("bar 4 (B–C, line 5)") && w.contains("ignored")), "{warnings:?}");
+    let warnings = json["warnings"].as_array().unwrap();
+    let body_bar =
+        |w: &&serde_json::Value| w["kind"] == "bar_in_body" && w["bar"] == 4 && w["body"] == 1 && w["line"] == 5;
+    let messages: Vec<&str> = warnings.iter().filter(body_bar).map(|w| w["message"].as_str().unwrap()).collect();
+    assert!(messages.iter().any(|w| w.contains("bar 4 (B–C, line 5)") && w.contains("ignored")), "{warnings:?}");
     // The same with the body's own length stated: agrees too.
     let drawn = (2.2f64 * 2.2 + 0.5 * 0.5).sqrt();
     let stated = write(&dir, "stated.toml", &scene(&format!(", {drawn:?}")));

@@ -118,7 +118,7 @@ fn limacon_closest_pair_is_the_shared_upper_end_certified() {
     };
     let d_end = euclid(&at(i, "----"), &at(j, "+---"));
     assert!((d_end - 143.8733).abs() < 1e-4, "{d_end}");
-    let c = commands::closest(&a, &s, i, j).unwrap();
+    let c = commands::closest(&a.linkage, &s, i, j).unwrap();
     // Sampling missed it (144.0571); now the minimum is found and proven.
     assert!(c.distance <= d_end + 1e-12 * a.linkage.scale, "{} > {d_end}", c.distance);
     assert!(c.lower_bound <= d_end && d_end <= c.distance + 1e-12 * a.linkage.scale);
@@ -131,16 +131,16 @@ fn limacon_closest_pair_is_the_shared_upper_end_certified() {
 fn a_search_stopped_by_its_budget_says_so_and_stays_sound() {
     let (a, s) = solve(bundled::load("limacon").unwrap());
     let opts = ClosestOptions { max_boxes: 80, ..Default::default() };
-    let c = commands::closest_with(&a, &s, 0, 2, opts).unwrap();
+    let c = commands::closest_with(&a.linkage, &s, 0, 2, opts).unwrap();
     assert_eq!(c.outcome, Outcome::Budget);
     assert!(!c.certified && c.relative_gap > 1e-9);
     assert!(c.certificate.starts_with("not certified to 1e-9: the budget of 80 boxes ran out"), "{}", c.certificate);
     // Still proven: the true minimum (143.8733…) lies between the bounds.
     assert!(c.lower_bound <= 143.8734 && c.upper_bound >= 143.8733 && c.lower_bound <= c.distance);
     // A looser gap is reached with the default budget, and said so.
-    let c = commands::closest_with(&a, &s, 0, 2, ClosestOptions { gap: 1e-6, ..Default::default() }).unwrap();
+    let c = commands::closest_with(&a.linkage, &s, 0, 2, ClosestOptions { gap: 1e-6, ..Default::default() }).unwrap();
     assert!(c.certified && c.certificate.starts_with("certified to 1e-6"), "{}", c.certificate);
-    assert!(commands::closest_with(&a, &s, 0, 2, ClosestOptions { gap: 0.0, ..Default::default() }).is_err());
+    assert!(commands::closest_with(&a.linkage, &s, 0, 2, ClosestOptions { gap: 0.0, ..Default::default() }).is_err());
 }
 
 #[test]
@@ -255,7 +255,7 @@ fn enclosures_hold_the_realizations() {
 #[test]
 fn closest_through_the_binary_reports_its_certificate() {
     let run = |args: &[&str]| std::process::Command::new(env!("CARGO_BIN_EXE_caymos")).args(args).output().unwrap();
-    let out = run(&["closest", "limacon", "--components", "0,2", "--gap", "1e-6", "--format", "json"]);
+    let out = run(&["closest", "limacon", "--components", "1,3", "--gap", "1e-6", "--format", "json"]);
     assert_eq!(out.status.code(), Some(0));
     let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(json["certified"], true);
@@ -263,8 +263,8 @@ fn closest_through_the_binary_reports_its_certificate() {
     assert_eq!(json["outcome"], "gap_reached");
     assert!(json["lower_bound"].as_f64().unwrap() <= json["distance"].as_f64().unwrap());
     assert!(json["boxes"].as_u64().unwrap() > 0 && json["end_pairs"].as_u64().unwrap() == 64);
-    let out = run(&["closest", "limacon", "--components", "0,2"]);
+    let out = run(&["closest", "limacon", "--components", "1,3"]);
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(text.contains("Cayley distance 143.87") && text.contains("certified to 1e-9"), "{text}");
-    assert_eq!(run(&["closest", "limacon", "--components", "0,2", "--gap", "2"]).status.code(), Some(1));
+    assert_eq!(run(&["closest", "limacon", "--components", "1,3", "--gap", "2"]).status.code(), Some(1));
 }

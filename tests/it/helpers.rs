@@ -1,7 +1,7 @@
 //! Shared helpers for the one integration-test crate: run the real binary,
 //! solve a scene in process, scratch files.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 use caymos::analysis::{Analysis, Scope, Solved, analyse_with};
@@ -32,7 +32,7 @@ pub fn scratch(name: &str) -> PathBuf {
 /// the reason if the scene has no Cayley space.
 pub fn solve_with(scene: Scene, base: Option<[usize; 2]>, scope: Scope) -> (Analysis, Solved) {
     let a = analyse_with(scene, base, scope).expect("a valid scene");
-    let s = a.outcome.clone().unwrap_or_else(|o| panic!("{}", o.describe(&a.linkage)));
+    let s = a.outcome.clone().unwrap_or_else(|o| panic!("{}", caymos::present::outside(&o, &a.linkage)));
     (a, s)
 }
 
@@ -44,4 +44,11 @@ pub fn solve(scene: Scene) -> (Analysis, Solved) {
 /// The full analysis of a bundled scene.
 pub fn solved(name: &str) -> (Analysis, Solved) {
     solve(bundled::load(name).unwrap_or_else(|e| panic!("{name}: {e}")))
+}
+
+/// Write `text` to `dir/name`; the path as a string, for arguments.
+pub fn write(dir: &Path, name: &str, text: &str) -> String {
+    let path = dir.join(name);
+    std::fs::write(&path, text).unwrap();
+    path.to_str().unwrap().to_string()
 }

@@ -121,7 +121,7 @@ fn analyse_goes_lazy_above_2_pow_16_types_and_says_so() {
             }
         }
         let r = caymos::report::Report::new(&analyse(strandbeest(2), None).unwrap());
-        assert_eq!(r.analysis, "full");
+        assert_eq!(r.analysis, caymos::report::AnalysisKind::Full);
     }
 }
 

@@ -6,6 +6,7 @@ mod bounds;
 mod cayley_space;
 mod cli;
 mod closest;
+mod contract;
 mod graph;
 mod lazy;
 mod motion;

@@ -177,7 +177,7 @@ fn limacon_has_three_components_and_paths_of_four_and_six_intervals() {
                 // The same through the command, with JSON-ready output.
                 let from = format!("{}@227.96", s.space.intervals[ia].ty);
                 let to = format!("{}@246.96", s.space.intervals[ib].ty);
-                let p = commands::path(&a, &s, &from, &to, walk(a.linkage.scale / 50.0)).unwrap();
+                let p = commands::path(&a.linkage, &s, &from, &to, walk(a.linkage.scale / 50.0)).unwrap();
                 assert!(p.same_component && !p.same_type_path);
                 let mut n: Vec<usize> = p.paths.iter().map(|x| x.n_intervals).collect();
                 n.sort();
@@ -196,7 +196,7 @@ fn limacon_has_three_components_and_paths_of_four_and_six_intervals() {
 fn grashof_four_bar_components_are_mirror_images_at_distance_zero() {
     let (a, s) = solve(bundled::load("fourbar-crank-rocker").unwrap());
     assert_eq!(s.components.list.len(), 2);
-    let c = commands::closest(&a, &s, 0, 1).unwrap();
+    let c = commands::closest(&a.linkage, &s, 0, 1).unwrap();
     assert_eq!(c.distance, 0.0);
     assert!(c.mirror_images);
 }
@@ -204,7 +204,7 @@ fn grashof_four_bar_components_are_mirror_images_at_distance_zero() {
 #[test]
 fn paths_between_components_give_the_closest_pair() {
     let (a, s) = solve(bundled::load("jansen").unwrap());
-    let p = commands::path(&a, &s, "----@40", "-+--@40", walk(0.5)).unwrap();
+    let p = commands::path(&a.linkage, &s, "----@40", "-+--@40", walk(0.5)).unwrap();
     assert!(!p.same_component && p.paths.is_empty());
     let c = p.closest_pair.expect("closest pair given");
     assert!(c.distance > 0.0 && c.lower_bound <= c.distance && c.certified);
@@ -214,10 +214,10 @@ fn paths_between_components_give_the_closest_pair() {
 #[test]
 fn unrealizable_specs_are_rejected_with_a_reason() {
     let (a, s) = solve(bundled::load("jansen").unwrap());
-    let err = commands::path(&a, &s, "--+-@24", "drawn", walk(1.0)).unwrap_err();
+    let err = commands::path(&a.linkage, &s, "--+-@24", "drawn", walk(1.0)).unwrap_err();
     assert!(err.contains("not realizable") && err.contains("26.24"), "{err}");
-    assert!(commands::path(&a, &s, "-+@30", "drawn", walk(1.0)).unwrap_err().contains("4 steps"));
-    assert!(commands::path(&a, &s, "x", "drawn", walk(1.0)).unwrap_err().contains("TYPE@LAMBDA"));
+    assert!(commands::path(&a.linkage, &s, "-+@30", "drawn", walk(1.0)).unwrap_err().contains("4 steps"));
+    assert!(commands::path(&a.linkage, &s, "x", "drawn", walk(1.0)).unwrap_err().contains("TYPE@LAMBDA"));
 }
 
 #[test]
@@ -226,12 +226,12 @@ fn motion_commands_run_on_every_bundled_scene() {
         let a = analyse(bundled::load(b.name).unwrap(), None).unwrap();
         let Ok(s) = a.outcome.clone() else { continue };
         let step = walk(commands::default_step(&a));
-        let p = commands::path(&a, &s, "drawn", "drawn", step).unwrap();
+        let p = commands::path(&a.linkage, &s, "drawn", "drawn", step).unwrap();
         assert!(p.same_component && p.same_type_path, "{}", b.name);
         assert!(p.paths.iter().all(|p| p.complete && p.samples >= 1), "{}", b.name);
-        let segs = commands::trace_segments(&a, &s, None, None).unwrap();
+        let segs = commands::trace_segments(&a.linkage, &s, None, None).unwrap();
         let mut out = Vec::new();
-        let summary = commands::trace_csv(&a, &s, segs.clone(), &[0, 1], step, true, &mut out).unwrap();
+        let summary = commands::trace_csv(&a.linkage, &s, segs.clone(), &[0, 1], step, true, &mut out).unwrap();
         let csv = String::from_utf8(out).unwrap();
         let header = csv.lines().next().unwrap();
         assert!(header.starts_with("index,lambda,type,jump,") && header.contains(".y,"), "{header}");
@@ -242,7 +242,7 @@ fn motion_commands_run_on_every_bundled_scene() {
         let svg = commands::svg(&a, &s, segs, &[0], step);
         assert!(svg.text.starts_with("<svg") && svg.text.contains("polyline") && !svg.points_cut);
         if s.components.list.len() >= 2 {
-            let c = commands::closest(&a, &s, 0, 1).unwrap();
+            let c = commands::closest(&a.linkage, &s, 0, 1).unwrap();
             assert!(c.lower_bound >= 0.0 && c.lower_bound <= c.distance, "{}", b.name);
         }
     }

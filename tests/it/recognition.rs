@@ -40,7 +40,9 @@ fn figure_1b_is_tree_decomposable_but_not_lcc() {
     let failure = s.complexity.failure.expect("names the failing step");
     let step = s.dec.steps[failure.step];
     assert_eq!(a.linkage.names[step.vertex], "v3");
-    assert!(failure.message.contains("opposite"), "{}", failure.message);
+    assert!(!failure.opposite.is_empty(), "{failure:?}");
+    let text = caymos::present::lcc_failure(&failure, caymos::present::Names::new(&a.linkage, &s.dec.steps));
+    assert!(text.contains("opposite"), "{text}");
 }
 
 #[test]
@@ -136,7 +138,7 @@ fn right_bar_count_but_rigid_part_and_two_dof_part_is_rejected() {
     let a = analyse(b.build(), None).unwrap();
     let o = a.outcome.clone().unwrap_err();
     assert!(matches!(o, Outside::OverConstrained { dof: 2, .. }), "{o:?}");
-    let text = o.describe(&a.linkage);
+    let text = caymos::present::outside(&o, &a.linkage);
     assert!(text.contains("redundant") && text.contains("2 degrees of freedom"), "{text}");
 }
 
@@ -149,7 +151,7 @@ fn disconnected_linkage_is_rejected_naming_its_parts() {
     b.joint("D", [4.0, 1.0]);
     b.bar("A", "B").bar("C", "D");
     let a = analyse(b.build(), None).unwrap();
-    let text = a.outcome.unwrap_err().describe(&a.linkage);
+    let text = caymos::present::outside(&a.outcome.unwrap_err(), &a.linkage);
     assert!(text.contains("{A, B}") && text.contains("{C, D}"), "{text}");
 }
 
@@ -221,7 +223,7 @@ proptest! {
     fn random_linkages_are_recognised_and_reproduced(seed in any::<u64>(), steps in 1usize..9, tri in 0.0f64..0.8) {
         let scene = random_linkage(seed, steps, tri);
         let a = analyse(scene, None).unwrap();
-        let s = a.outcome.as_ref().map_err(|o| o.describe(&a.linkage)).unwrap();
+        let s = a.outcome.as_ref().map_err(|o| caymos::present::outside(o, &a.linkage)).unwrap();
         let pos = s.construction.realize(s.drawn.lambda, &s.drawn.ty).unwrap();
         let shown = to_display(&a.linkage, s.dec.base, &pos);
         let size = a.linkage.scale;

@@ -5,7 +5,7 @@
 //! the pose or the analysis scope.
 
 use crate::helpers::*;
-use caymos::analysis::{Scope, analyse_with};
+use caymos::analysis::{Scope, Warning, analyse_with};
 use caymos::bundled;
 use caymos::cayley_space::OrientedInterval;
 use caymos::generate::{chain, four_bar, random_linkage};
@@ -141,7 +141,11 @@ fn peaucellier_on_base_a_b_keeps_its_intervals_through_a_fourth_order_touch() {
 fn a_sixteen_step_chain_has_no_false_warnings() {
     let (a, s) = solve_with(chain(16), None, Scope::Lazy);
     assert!(s.space.intervals.len() >= 2);
+    let names = caymos::present::Names::new(&a.linkage, &s.dec.steps);
     for w in &a.warnings {
+        use caymos::cayley_space::Note;
+        assert!(!matches!(w, Warning::Note(Note::Unresolved { .. } | Note::Tangency { .. })), "false warning: {w:?}");
+        let w = caymos::present::warning(w, names);
         assert!(!w.contains("unresolved") && !w.contains("tangency"), "false warning: {w}");
     }
 }

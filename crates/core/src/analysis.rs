@@ -12,7 +12,8 @@ use crate::linkage::Linkage;
 use crate::motion::{Components, components, locate};
 use crate::real::{Dd, Jet, Real};
 use crate::realize::{
-    Construction, Drawn, Point2, Realization, Unrealizable, bar_residual, drawn_realization, to_display,
+    Construction, Drawn, Event, Point2, Realization, RealizationType, Unrealizable, bar_residual, drawn_realization,
+    to_display,
 };
 use crate::scene::{Scene, SceneError};
 
@@ -263,6 +264,173 @@ pub fn nearest_attainable(space: &CayleySpace<f64>, ty: &crate::realize::Realiza
         .min_by(|a, b| (a - lambda).abs().total_cmp(&(b - lambda).abs()))
 }
 
+/// Something the analysis found that a reader should know, as data (the
+/// presentation layer says it in words). Serialized as `{"kind": …, data}`,
+/// steps, bars and bodies numbered from 1.
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, schemars::JsonSchema))]
+#[cfg_attr(feature = "serde", serde(tag = "kind", rename_all = "snake_case"))]
+pub enum Warning {
+    /// A bar joins two joints of a body that already holds them at that
+    /// length: recognition ignores it (`line`: its line in the scene file).
+    BarInBody {
+        /// The bar (0-based; serialized from 1).
+        #[cfg_attr(feature = "serde", serde(serialize_with = "crate::numbering::item_number"))]
+        #[cfg_attr(feature = "serde", schemars(with = "crate::numbering::ItemNo"))]
+        bar: usize,
+        /// The body holding both its joints (0-based; serialized from 1).
+        #[cfg_attr(feature = "serde", serde(serialize_with = "crate::numbering::item_number"))]
+        #[cfg_attr(feature = "serde", schemars(with = "crate::numbering::ItemNo"))]
+        body: usize,
+        /// The bar's line in the scene file, if known.
+        line: Option<usize>,
+    },
+    /// Step `step` is flat in the drawing; its orientation is taken as +.
+    FlatInDrawing {
+        /// The flat step (0-based; serialized from 1).
+        #[cfg_attr(feature = "serde", serde(serialize_with = "crate::numbering::step_number"))]
+        #[cfg_attr(feature = "serde", schemars(with = "crate::numbering::StepNo"))]
+        step: usize,
+    },
+    /// The f64 and double-double runs found different intervals.
+    RunsDiffer,
+    /// A sketch's base length is not attainable in its type: it is realized
+    /// at the nearest attainable λ instead.
+    SketchRelocated {
+        /// The sketch's realization type.
+        #[cfg_attr(feature = "serde", serde(rename = "type"))]
+        ty: RealizationType,
+        /// The base length as drawn.
+        drawn_lambda: f64,
+        /// The nearest attainable base length, where it is realized.
+        lambda: f64,
+    },
+    /// The drawn (λ, type) has no realization.
+    DrawnUnrealizable {
+        /// The drawn type.
+        #[cfg_attr(feature = "serde", serde(rename = "type"))]
+        ty: RealizationType,
+        /// The drawn base length.
+        lambda: f64,
+        /// Which step fails, and how.
+        why: Unrealizable,
+    },
+    /// The drawn realization misses a bar length by `residual` (scene units).
+    BarResidual {
+        /// The largest bar-length miss, scene units.
+        residual: f64,
+    },
+    /// `count` decisions on deep steps rest on a double-double error
+    /// estimate, not a proof (the proven bounds were too wide).
+    EstimatedDecisions {
+        /// How many decisions.
+        count: usize,
+    },
+    /// A branch point (`ways` > 0 ways on) or a dead end (`ways` == 0) at λ.
+    BranchPoint {
+        /// Where (base length).
+        lambda: f64,
+        /// The steps flat there.
+        events: Vec<Event>,
+        /// How many ways on (0: a dead end).
+        ways: usize,
+    },
+    /// A special event met while computing the Cayley space.
+    #[cfg_attr(feature = "serde", serde(untagged))]
+    Note(Note),
+}
+
+/// Why a solved scene has no component at all, as data.
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, schemars::JsonSchema))]
+#[cfg_attr(feature = "serde", serde(tag = "kind", rename_all = "snake_case"))]
+pub enum NoRealization {
+    /// Each step on the base allows the base length only in [|r1 − r2|, r1 + r2]:
+    /// step `lower_step` needs at least `lower`, step `upper_step` at most `upper` < `lower`.
+    BaseRangesMiss {
+        /// The largest lower bound |r1 − r2| over the steps on the base.
+        lower: f64,
+        /// The step giving it (0-based; serialized from 1).
+        #[cfg_attr(feature = "serde", serde(serialize_with = "crate::numbering::step_number"))]
+        #[cfg_attr(feature = "serde", schemars(with = "crate::numbering::StepNo"))]
+        lower_step: usize,
+        /// The smallest upper bound r1 + r2 over the steps on the base.
+        upper: f64,
+        /// The step giving it (0-based; serialized from 1).
+        #[cfg_attr(feature = "serde", serde(serialize_with = "crate::numbering::step_number"))]
+        #[cfg_attr(feature = "serde", schemars(with = "crate::numbering::StepNo"))]
+        upper_step: usize,
+    },
+    /// Nothing was found, yet the drawn realization closes every step
+    /// (`drawn_closes`) or every step stands on the base with overlapping
+    /// ranges: the analysis failed numerically.
+    NumericFailure {
+        /// Whether the drawn realization closes every step.
+        drawn_closes: bool,
+        /// The drawn type.
+        #[cfg_attr(feature = "serde", serde(rename = "type"))]
+        ty: RealizationType,
+        /// The drawn base length.
+        lambda: f64,
+        /// The scene's scale.
+        scale: f64,
+    },
+    /// A lazy analysis starts from the drawn realization, and its type has
+    /// none at the drawn λ.
+    LazyDrawnType {
+        /// The drawn type.
+        #[cfg_attr(feature = "serde", serde(rename = "type"))]
+        ty: RealizationType,
+        /// The drawn base length.
+        lambda: f64,
+    },
+    /// No orientation type closes every step (for any base length in
+    /// `range`, the range the steps on the base allow).
+    NoTypeCloses {
+        /// The base lengths the steps on the base allow, if any step is on the base.
+        range: Option<[f64; 2]>,
+    },
+}
+
+/// Why `s` has no component (`None` when it has one).
+pub fn no_realization(s: &Solved, scale: f64) -> Option<NoRealization> {
+    if !s.components.list.is_empty() {
+        return None;
+    }
+    let con = &s.construction;
+    let on_base: Vec<(usize, f64, f64)> = (0..con.steps.len())
+        .filter(|&k| con.on_base(k))
+        .map(|k| (k, (con.steps[k].r1 - con.steps[k].r2).abs(), con.steps[k].r1 + con.steps[k].r2))
+        .collect();
+    let lowest_upper = on_base.iter().min_by(|x, y| x.2.total_cmp(&y.2));
+    let highest_lower = on_base.iter().max_by(|x, y| x.1.total_cmp(&y.1));
+    if let (Some(&(kl, lo, _)), Some(&(ku, _, hi))) = (highest_lower, lowest_upper)
+        && lo > hi
+    {
+        return Some(NoRealization::BaseRangesMiss { lower: lo, lower_step: kl, upper: hi, upper_step: ku });
+    }
+    // A realization the sweep should have found: the drawn one, or (every
+    // step on the base, their ranges overlapping) any type inside the overlap.
+    let drawn_closes = con.realize(s.drawn.lambda, &s.drawn.ty).is_ok();
+    let all_on_base = on_base.len() == con.steps.len();
+    if drawn_closes || (all_on_base && !on_base.is_empty()) {
+        return Some(NoRealization::NumericFailure {
+            drawn_closes,
+            ty: s.drawn.ty.clone(),
+            lambda: s.drawn.lambda,
+            scale,
+        });
+    }
+    if s.lazy {
+        return Some(NoRealization::LazyDrawnType { ty: s.drawn.ty.clone(), lambda: s.drawn.lambda });
+    }
+    let range = match (highest_lower, lowest_upper) {
+        (Some(&(_, lo, _)), Some(&(_, _, hi))) => Some([lo, hi]),
+        _ => None,
+    };
+    Some(NoRealization::NoTypeCloses { range })
+}
+
 /// A scene analysed: its linkage and either the solved analysis or why it is outside the class.
 #[derive(Debug, Clone)]
 pub struct Analysis {
@@ -272,8 +440,8 @@ pub struct Analysis {
     pub linkage: Linkage,
     /// The analysis, or why the linkage is outside the handled class.
     pub outcome: Result<Solved, Outside>,
-    /// Things the user should know about the input, as sentences.
-    pub warnings: Vec<String>,
+    /// Things the user should know about the input, as data.
+    pub warnings: Vec<Warning>,
     /// Time spent per phase.
     pub timings: Timings,
 }
@@ -303,7 +471,15 @@ pub fn analyse_with(scene: Scene, base_override: Option<[usize; 2]>, scope: Scop
         (None, Some((b, _))) => (Some(b), BaseSource::Scene),
         (None, None) => (None, BaseSource::Scene),
     };
-    let mut warnings = Vec::new();
+    let mut warnings: Vec<Warning> = crate::decompose::bars_within_bodies(&linkage)
+        .into_iter()
+        .filter(|b| b.agrees)
+        .map(|b| Warning::BarInBody {
+            bar: b.bar,
+            body: b.body,
+            line: scene.bars.get(b.bar).map(|bar| bar.line).filter(|&l| l > 0),
+        })
+        .collect();
     let dec = match timings.time("decompose", || decompose(&linkage, requested)) {
         Err(outside) => return Ok(Analysis { scene, linkage, outcome: Err(outside), warnings, timings }),
         Ok(Err(base_error)) => {
@@ -316,22 +492,13 @@ pub fn analyse_with(scene: Scene, base_override: Option<[usize; 2]>, scope: Scop
         }
         Ok(Ok(dec)) => dec,
     };
-    let complexity = timings.time("four_cycle", || four_cycle_test(&linkage, &dec));
+    let complexity = timings.time("four_cycle", || four_cycle_test(&dec));
     let construction = timings
         .time("construction", || Construction::<f64>::new(&linkage, &dec))
         .map_err(|e| scene.error_at(None, e.0))?;
     let certifier = Certifier::new(&linkage, &dec).expect("the f64 construction succeeded, so the ball ones do");
     let drawn = drawn_realization(&linkage, &dec);
-    for &k in &drawn.flat_steps {
-        let s = &dec.steps[k];
-        warnings.push(format!(
-            "step {} ({} ◁ ({}, {})) is flat in the drawing; its orientation is taken as +",
-            k + 1,
-            linkage.names[s.vertex],
-            linkage.names[s.u],
-            linkage.names[s.w]
-        ));
-    }
+    warnings.extend(drawn.flat_steps.iter().map(|&step| Warning::FlatInDrawing { step }));
     // A sketch whose drawn λ its type cannot reach has no start for the walk:
     // small ones get the full analysis (which relocates the drawing from its
     // intervals), large ones a sampled search for a start.
@@ -385,10 +552,7 @@ pub fn analyse_with(scene: Scene, base_override: Option<[usize; 2]>, scope: Scop
     };
     let union = union(&space.intervals, linkage.scale);
     if accuracy.as_ref().is_some_and(|a| !a.same_structure) {
-        warnings.push(
-            "the f64 and double-double runs found different intervals: some events are closer than f64 separates"
-                .to_string(),
-        );
+        warnings.push(Warning::RunsDiffer);
     }
     let mut drawn = drawn;
     let realized = timings.time("realize", || construction.realize(drawn.lambda, &drawn.ty));
@@ -399,17 +563,16 @@ pub fn analyse_with(scene: Scene, base_override: Option<[usize; 2]>, scope: Scop
             let retry = attainable.and_then(|l| construction.realize(l, &drawn.ty).ok().map(|p| (l, p)));
             match retry {
                 Some((l, pos)) if scene.is_sketch() => {
-                    warnings.push(format!(
-                        "the sketch's base length λ = {} is not attainable in its type {}; realized at the nearest attainable λ = {}",
-                        sig(drawn.lambda),
-                        drawn.ty,
-                        sig(l)
-                    ));
+                    warnings.push(Warning::SketchRelocated {
+                        ty: drawn.ty.clone(),
+                        drawn_lambda: drawn.lambda,
+                        lambda: l,
+                    });
                     drawn.lambda = l;
                     Some(to_display(&linkage, dec.base, &pos))
                 }
                 _ => {
-                    warnings.push(describe_unrealizable(&linkage, &dec, &why, drawn.lambda, &drawn.ty.to_string()));
+                    warnings.push(Warning::DrawnUnrealizable { ty: drawn.ty.clone(), lambda: drawn.lambda, why });
                     None
                 }
             }
@@ -425,31 +588,23 @@ pub fn analyse_with(scene: Scene, base_override: Option<[usize; 2]>, scope: Scop
         if let Some(pos) = &drawn_positions {
             let r = bar_residual(&linkage, pos);
             if r > crate::tolerance::BAR_RESIDUAL * linkage.scale {
-                warnings.push(format!("the drawn realization misses a bar length by {r:.3e}"));
+                warnings.push(Warning::BarResidual { residual: r });
             }
         }
         None
     };
-    warnings.extend(describe_notes(&linkage, &dec, &space.notes));
+    for note in &space.notes {
+        push_new(&mut warnings, Warning::Note(note.clone()));
+    }
     if certifier.estimated() > 0 {
-        warnings.push(format!(
-            "{} decisions on deep steps (is a slack zero at an end or inside a gap) rest on a double-double error estimate, not a proof: the proven bounds were too wide there (deep constructions, touching slacks)",
-            certifier.estimated()
-        ));
+        warnings.push(Warning::EstimatedDecisions { count: certifier.estimated() });
     }
     let components = timings.time("components", || components(&space));
     for b in &components.branch_points {
-        let what = if b.options.is_empty() { "a dead end" } else { "a branch point" };
-        let events: Vec<String> = b.events.iter().map(|e| format!("step {} {}", e.step + 1, e.kind.name())).collect();
-        let text = format!(
-            "{what} at λ = {} ({}): {} ways on; each listed component follows the lowest flat step's flip there",
-            sig(b.lambda),
-            events.join(", "),
-            b.options.len()
+        push_new(
+            &mut warnings,
+            Warning::BranchPoint { lambda: b.lambda, events: b.events.clone(), ways: b.options.len() },
         );
-        if !warnings.contains(&text) {
-            warnings.push(text);
-        }
     }
     let drawn_interval = drawn_positions
         .as_ref()
@@ -474,95 +629,9 @@ pub fn analyse_with(scene: Scene, base_override: Option<[usize; 2]>, scope: Scop
     Ok(Analysis { scene, linkage, outcome: Ok(solved), warnings, timings })
 }
 
-/// λ in sentences: as many significant digits as tell two f64 apart, never a
-/// fixed number of decimals (1e-20 and 1e300 print as such).
-fn sig(x: f64) -> String {
-    crate::numfmt::fmt_sig(x, 17)
-}
-
-/// A sentence saying why (λ, type) has no realization.
-pub fn describe_unrealizable(
-    linkage: &Linkage,
-    dec: &Decomposition,
-    why: &Unrealizable,
-    lambda: f64,
-    ty: &str,
-) -> String {
-    let n = &linkage.names;
-    match *why {
-        Unrealizable::Infeasible { step, slack } => {
-            let s = &dec.steps[step];
-            format!(
-                "type {ty} has no realization at λ = {}: step {} ({} ◁ ({}, {})) cannot close (short by {:.3e})",
-                sig(lambda),
-                step + 1,
-                n[s.vertex],
-                n[s.u],
-                n[s.w],
-                -slack
-            )
-        }
-        Unrealizable::Degenerate { step } => {
-            let s = &dec.steps[step];
-            format!(
-                "type {ty} at λ = {}: step {} has {} and {} at the same point, so {} is undetermined",
-                sig(lambda),
-                step + 1,
-                n[s.u],
-                n[s.w],
-                n[s.vertex]
-            )
-        }
+/// Add `w` unless it is already there (one warning per distinct event).
+fn push_new(warnings: &mut Vec<Warning>, w: Warning) {
+    if !warnings.contains(&w) {
+        warnings.push(w);
     }
-}
-
-/// One warning per distinct special event, naming λ and the steps.
-pub fn describe_notes(linkage: &Linkage, dec: &Decomposition, notes: &[Note]) -> Vec<String> {
-    let step_name = |k: usize| {
-        let s = &dec.steps[k];
-        format!("step {} ({} ◁ ({}, {}))", k + 1, linkage.names[s.vertex], linkage.names[s.u], linkage.names[s.w])
-    };
-    let mut out: Vec<String> = Vec::new();
-    for note in notes {
-        let text = match note {
-            Note::Coincident { lambda, events } => {
-                let list: Vec<String> =
-                    events.iter().map(|e| format!("{} {}", step_name(e.step), e.kind.name())).collect();
-                format!(
-                    "non-generic: at λ = {} several steps are flat at once: {}; the motion may branch there",
-                    sig(*lambda),
-                    list.join(", ")
-                )
-            }
-            Note::Tangency { lambda, event, inside: false } => format!(
-                "tangency: {} is {} only at the isolated point λ = {}",
-                step_name(event.step),
-                event.kind.name(),
-                sig(*lambda)
-            ),
-            Note::Tangency { lambda, event, inside: true } => format!(
-                "tangency: {} touches {} at λ = {} inside an interval without leaving it",
-                step_name(event.step),
-                event.kind.name(),
-                sig(*lambda)
-            ),
-            Note::Unresolved { lambda, step, detail } => {
-                format!("unresolved near λ = {}, {}: {detail}", sig(*lambda), step_name(*step))
-            }
-            Note::ZeroBase { step } => format!(
-                "the base length reaches 0 ({} folded with equal bars): the base joints coincide there",
-                step_name(*step)
-            ),
-            Note::Degenerate { lambda, step } => format!(
-                "degenerate: for some types {} has its base joints coincide for λ in [{}, {}], so its vertex turns freely (an extra degree of freedom); those types are left out there",
-                step_name(*step),
-                sig(lambda[0]),
-                sig(lambda[1])
-            ),
-        };
-        if !out.contains(&text) {
-            out.push(text);
-        }
-    }
-    out
 }

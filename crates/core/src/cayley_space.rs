@@ -42,6 +42,8 @@ pub struct OrientedInterval<T> {
 /// Something special found while computing: a non-generic event, or a place
 /// where the method could not decide.
 #[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, schemars::JsonSchema))]
+#[cfg_attr(feature = "serde", serde(tag = "kind", rename_all = "snake_case"))]
 pub enum Note {
     /// Two or more steps flat at the same λ (a possible branch point).
     Coincident {
@@ -64,14 +66,18 @@ pub enum Note {
     Unresolved {
         /// Where (base length).
         lambda: f64,
-        /// The step concerned.
+        /// The step concerned (serialized from 1).
+        #[cfg_attr(feature = "serde", serde(serialize_with = "crate::numbering::step_number"))]
+        #[cfg_attr(feature = "serde", schemars(with = "crate::numbering::StepNo"))]
         step: usize,
-        /// What could not be separated, as a sentence.
-        detail: String,
+        /// What could not be separated.
+        why: Unresolved,
     },
     /// The base length reaches zero (the base joints coincide).
     ZeroBase {
-        /// The step flat at λ = 0.
+        /// The step flat at λ = 0 (serialized from 1).
+        #[cfg_attr(feature = "serde", serde(serialize_with = "crate::numbering::step_number"))]
+        #[cfg_attr(feature = "serde", schemars(with = "crate::numbering::StepNo"))]
         step: usize,
     },
     /// Step `step`'s base joints coincide all along a piece of λ: its vertex
@@ -80,7 +86,9 @@ pub enum Note {
     Degenerate {
         /// The piece of λ, [from, to].
         lambda: [f64; 2],
-        /// The degenerate step.
+        /// The degenerate step (serialized from 1).
+        #[cfg_attr(feature = "serde", serde(serialize_with = "crate::numbering::step_number"))]
+        #[cfg_attr(feature = "serde", schemars(with = "crate::numbering::StepNo"))]
         step: usize,
     },
 }
@@ -88,9 +96,26 @@ pub enum Note {
 impl Note {
     /// Two roots or none at λ for step `step`, not separable at the working precision.
     pub fn near_double_root(lambda: f64, step: usize) -> Note {
-        let detail = "a near-double root: two endpoints or none, not separable at this precision".into();
-        Note::Unresolved { lambda, step, detail }
+        Note::Unresolved { lambda, step, why: Unresolved::NearDoubleRoot }
     }
+}
+
+/// What could not be decided at working precision ([`Note::Unresolved`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, schemars::JsonSchema))]
+#[cfg_attr(feature = "serde", serde(tag = "reason", rename_all = "snake_case"))]
+pub enum Unresolved {
+    /// The slack's sign on one gap disagrees between its two roots.
+    GapSign,
+    /// The root search could not separate the inflections of d_k.
+    Inflections,
+    /// A near-double root: two endpoints or none.
+    NearDoubleRoot,
+    /// The lazy walk stopped after this many intervals (its budget).
+    WalkBudget {
+        /// Intervals walked before the budget stopped it.
+        intervals: usize,
+    },
 }
 
 /// How endpoints were found.
@@ -333,11 +358,7 @@ impl<T: Real> Sweep<'_, T> {
                     (Some(x), None) | (None, Some(x)) => x > 0,
                     (l, r) => {
                         if l.is_some() && r.is_some() {
-                            self.notes.push(Note::Unresolved {
-                                lambda: a.to_f64(),
-                                step: k,
-                                detail: "the slack's sign on one gap disagrees between its two roots".into(),
-                            });
+                            self.notes.push(Note::Unresolved { lambda: a.to_f64(), step: k, why: Unresolved::GapSign });
                         }
                         self.gap_sign(k, bits, a, b) > 0
                     }
@@ -525,11 +546,7 @@ impl<T: Real> Sweep<'_, T> {
                     self.numeric_gap(k, a, c, eval, depth + 1, roots);
                     self.numeric_gap(k, c, b, eval, depth + 1, roots);
                 } else {
-                    self.notes.push(Note::Unresolved {
-                        lambda: a.to_f64(),
-                        step: k,
-                        detail: "the root search could not separate the inflections of d_k".into(),
-                    });
+                    self.notes.push(Note::Unresolved { lambda: a.to_f64(), step: k, why: Unresolved::Inflections });
                 }
                 return;
             }

@@ -8,7 +8,6 @@
 use std::collections::HashMap;
 
 use crate::decompose::Decomposition;
-use crate::linkage::Linkage;
 
 /// Why a pair of clusters is valid (adjacent in a four-cycle of clusters).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -46,13 +45,16 @@ pub struct Carrier {
     pub origin: PairOrigin,
 }
 
-/// A step where the four-cycle test fails.
+/// A step where the four-cycle test fails: no valid pair of built clusters
+/// (adjacent in a four-cycle) holds both of its base joints.
 #[derive(Debug, Clone, PartialEq)]
 pub struct LccFailure {
     /// The failing step (0-based).
     pub step: usize,
-    /// Why it fails, as a sentence.
-    pub message: String,
+    /// Pairs of built clusters holding the step's `u` and `w` that share no
+    /// joint (opposite in a four-cycle), each as its sorted joints; empty when
+    /// no such pair exists either.
+    pub opposite: Vec<[Vec<usize>; 2]>,
 }
 
 /// The result of the four-cycle test (THEORY.md §3).
@@ -74,7 +76,7 @@ fn key(a: usize, b: usize) -> (usize, usize) {
 }
 
 /// Run the four-cycle test along the construction.
-pub fn four_cycle_test(linkage: &Linkage, dec: &Decomposition) -> Complexity {
+pub fn four_cycle_test(dec: &Decomposition) -> Complexity {
     let clusters = &dec.clusters;
     let mut valid: HashMap<(usize, usize), PairOrigin> = HashMap::new();
     let mut built: Vec<usize> = Vec::new(); // in build order
@@ -126,7 +128,7 @@ pub fn four_cycle_test(linkage: &Linkage, dec: &Decomposition) -> Complexity {
                     }
                 }
                 None => {
-                    failure = Some(explain_failure(linkage, dec, k, &us, &ws));
+                    failure = Some(explain_failure(dec, k, &us, &ws));
                 }
             }
         }
@@ -152,31 +154,13 @@ fn fallback_partner(dec: &Decomposition, k: usize) -> usize {
     built_joints.into_iter().find(|&j| j != step.u && j != step.w).unwrap_or(dec.base[0])
 }
 
-fn explain_failure(linkage: &Linkage, dec: &Decomposition, k: usize, us: &[usize], ws: &[usize]) -> LccFailure {
-    let step = &dec.steps[k];
-    let n = &linkage.names;
-    let show = |c: usize| {
-        let js: Vec<&str> = dec.clusters.nodes[c].joints.iter().map(|&j| n[j].as_str()).collect();
-        format!("{{{}}}", js.join(","))
-    };
-    let opposite: Vec<String> = us
+fn explain_failure(dec: &Decomposition, k: usize, us: &[usize], ws: &[usize]) -> LccFailure {
+    let joints = |c: usize| dec.clusters.nodes[c].joints.clone();
+    let opposite = us
         .iter()
         .flat_map(|&tu| ws.iter().map(move |&tw| (tu, tw)))
         .filter(|&(tu, tw)| dec.clusters.shared(tu, tw).is_empty())
-        .map(|(tu, tw)| format!("{} and {}", show(tu), show(tw)))
+        .map(|(tu, tw)| [joints(tu), joints(tw)])
         .collect();
-    let why = if opposite.is_empty() {
-        format!("no adjacent pair of built clusters in a four-cycle holds {} and {}", n[step.u], n[step.w])
-    } else {
-        format!(
-            "{} and {} lie on clusters that share no joint (opposite in a four-cycle): {}",
-            n[step.u],
-            n[step.w],
-            opposite.join("; ")
-        )
-    };
-    LccFailure {
-        step: k,
-        message: format!("step {} ({} ◁ ({}, {})): {why}", k + 1, n[step.vertex], n[step.u], n[step.w]),
-    }
+    LccFailure { step: k, opposite }
 }

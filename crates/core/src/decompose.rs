@@ -330,7 +330,8 @@ pub struct Decomposition {
 /// Other valid bases listed at most (a bound on output, not on the search).
 pub const MAX_OTHER_BASES: usize = 32;
 
-/// Why a linkage is outside the handled class.
+/// Why a linkage is outside the handled class (as data: joints, bars and
+/// bodies by index; sentences are made by the caller).
 #[derive(Debug, Clone, PartialEq)]
 pub enum Outside {
     /// The joints fall apart into `parts` (not one linkage).
@@ -357,54 +358,6 @@ pub enum Outside {
     },
     /// 1-dof, but no base non-edge makes it one cluster by merging.
     NotTreeDecomposable,
-}
-
-impl Outside {
-    /// A one-sentence reason naming the joints and bars involved.
-    pub fn describe(&self, linkage: &Linkage) -> String {
-        let names = |js: &[usize]| js.iter().map(|&j| linkage.names[j].as_str()).collect::<Vec<_>>().join(", ");
-        match self {
-            Outside::Disconnected { parts } => {
-                let list: Vec<String> = parts.iter().map(|p| format!("{{{}}}", names(p))).collect();
-                format!("disconnected: {} separate parts: {}", parts.len(), list.join(" "))
-            }
-            Outside::OverConstrained { redundant, dof } => {
-                let what: Vec<String> = redundant
-                    .iter()
-                    .map(|c| match *c {
-                        Constraint::Bar(i) => format!("bar {}", linkage.pair_name(linkage.bars[i].joints)),
-                        Constraint::Body(i) => format!("body [{}]", names(&linkage.bodies[i])),
-                    })
-                    .collect();
-                let rest = match dof {
-                    0 => "the rest is rigid".to_string(),
-                    1 => "1 degree of freedom remains".to_string(),
-                    d => format!("{d} degrees of freedom remain"),
-                };
-                format!("over-constrained: {} redundant ({rest})", what.join(", "))
-            }
-            Outside::Rigid { tree_decomposable: true } => "rigid: no motion (it is tree-decomposable)".to_string(),
-            Outside::Rigid { tree_decomposable: false } => {
-                "rigid: no motion, and not tree-decomposable (not buildable by ruler and compass)".to_string()
-            }
-            Outside::ManyDof { dof } => format!("{dof} degrees of freedom: a 1-dof linkage is needed"),
-            Outside::NotTreeDecomposable => {
-                "1 degree of freedom but not tree-decomposable: no base non-edge makes it buildable by ruler and compass"
-                    .to_string()
-            }
-        }
-    }
-
-    /// Short machine name for JSON.
-    pub fn kind(&self) -> &'static str {
-        match self {
-            Outside::Disconnected { .. } => "disconnected",
-            Outside::OverConstrained { .. } => "over_constrained",
-            Outside::Rigid { .. } => "rigid",
-            Outside::ManyDof { .. } => "many_dof",
-            Outside::NotTreeDecomposable => "not_tree_decomposable",
-        }
-    }
 }
 
 /// A requested base that cannot be used.

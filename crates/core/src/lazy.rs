@@ -265,7 +265,7 @@ impl<'a, T: Real> Walker<'a, T> {
                 self.notes.push(Note::Unresolved {
                     lambda: e.lambda.to_f64(),
                     step: e.events[0].step,
-                    detail: format!("the lazy walk stopped after {} intervals", intervals.len()),
+                    why: crate::cayley_space::Unresolved::WalkBudget { intervals: intervals.len() },
                 });
                 return false;
             }

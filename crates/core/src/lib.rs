@@ -13,6 +13,12 @@
 //! arithmetics (double-double, jets, balls, intervals).
 //! [`analysis`] runs it all, in f64 with a double-double self-check.
 //!
+//! Results are data (enums and structs carrying joints, steps and numbers,
+//! such as [`analysis::Warning`] and [`decompose::Outside`]); the caller says
+//! them in words. With the `serde` feature they serialize as
+//! `{"kind": …, data…}` and describe themselves as JSON Schemas (schemars);
+//! steps are then numbered from 1, as people count them ([`numbering`]).
+//!
 //! ```
 //! let text = r#"
 //! ground = ["D", "A"]
@@ -45,6 +51,7 @@ pub mod invert;
 pub mod lazy;
 pub mod linkage;
 pub mod motion;
+pub mod numbering;
 pub mod numfmt;
 pub mod real;
 pub mod realize;

@@ -173,21 +173,45 @@ pub fn locate(space: &CayleySpace<f64>, r: &Realization, scale: f64) -> Option<u
         .position(|i| i.ty == r.ty && r.lambda >= i.lower.lambda - tol && r.lambda <= i.upper.lambda + tol)
 }
 
-/// Why a realization could not be located, as a sentence.
-pub fn explain_missing(space: &CayleySpace<f64>, r: &Realization, n_steps: usize) -> String {
+/// Why a realization could not be located (see [`explain_missing`]).
+#[derive(Clone, Debug, PartialEq)]
+pub enum Missing {
+    /// The type has `signs` signs but the scene has `steps` steps.
+    WrongLength {
+        /// The type asked for.
+        ty: RealizationType,
+        /// Its number of signs.
+        signs: usize,
+        /// The scene's number of construction steps.
+        steps: usize,
+    },
+    /// The type has no interval at all.
+    NoInterval {
+        /// The type asked for.
+        ty: RealizationType,
+    },
+    /// The type is realizable, but not at `lambda`: only on `spans`.
+    Elsewhere {
+        /// The type asked for.
+        ty: RealizationType,
+        /// The base length asked for.
+        lambda: f64,
+        /// The λ-intervals where the type is realizable.
+        spans: Vec<[f64; 2]>,
+    },
+}
+
+/// Why a realization could not be located.
+pub fn explain_missing(space: &CayleySpace<f64>, r: &Realization, n_steps: usize) -> Missing {
     if r.ty.0.len() != n_steps {
-        return format!("type {} has {} signs; this scene has {n_steps} steps", r.ty, r.ty.0.len());
+        return Missing::WrongLength { ty: r.ty.clone(), signs: r.ty.0.len(), steps: n_steps };
     }
-    let spans: Vec<String> = space
-        .intervals
-        .iter()
-        .filter(|i| i.ty == r.ty)
-        .map(|i| format!("[{}, {}]", i.lower.lambda, i.upper.lambda))
-        .collect();
+    let spans: Vec<[f64; 2]> =
+        space.intervals.iter().filter(|i| i.ty == r.ty).map(|i| [i.lower.lambda, i.upper.lambda]).collect();
     if spans.is_empty() {
-        format!("type {} has no realization at any λ", r.ty)
+        Missing::NoInterval { ty: r.ty.clone() }
     } else {
-        format!("type {} is not realizable at λ = {}; it is at λ in {}", r.ty, r.lambda, spans.join(" ∪ "))
+        Missing::Elsewhere { ty: r.ty.clone(), lambda: r.lambda, spans }
     }
 }
 

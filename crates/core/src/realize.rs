@@ -92,6 +92,24 @@ impl fmt::Display for RealizationType {
     }
 }
 
+/// Serialized as its signs, e.g. `"-+-+"`.
+#[cfg(feature = "serde")]
+impl serde::Serialize for RealizationType {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.collect_str(self)
+    }
+}
+
+#[cfg(feature = "serde")]
+impl schemars::JsonSchema for RealizationType {
+    fn schema_name() -> std::borrow::Cow<'static, str> {
+        "RealizationType".into()
+    }
+    fn json_schema(_: &mut schemars::SchemaGenerator) -> schemars::Schema {
+        schemars::json_schema!({ "type": "string", "pattern": "^[+-]*$" })
+    }
+}
+
 /// A realization named by type and base length.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Realization {
@@ -123,6 +141,8 @@ impl std::fmt::Display for Realization {
 
 /// How a step is flat at an endpoint.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, schemars::JsonSchema))]
+#[cfg_attr(feature = "serde", serde(rename_all = "snake_case"))]
 pub enum Kind {
     /// d = r1 + r2
     Stretched,
@@ -165,8 +185,11 @@ impl Kind {
 
 /// Step `step` is flat (`kind`) at an endpoint.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, schemars::JsonSchema))]
 pub struct Event {
-    /// The flat step (0-based).
+    /// The flat step (0-based; serialized from 1).
+    #[cfg_attr(feature = "serde", serde(serialize_with = "crate::numbering::step_number"))]
+    #[cfg_attr(feature = "serde", schemars(with = "crate::numbering::StepNo"))]
     pub step: usize,
     /// How it is flat.
     pub kind: Kind,
@@ -219,17 +242,23 @@ pub struct Construction<T> {
 
 /// Why a (λ, type) has no realization.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, schemars::JsonSchema))]
+#[cfg_attr(feature = "serde", serde(tag = "reason", rename_all = "snake_case"))]
 pub enum Unrealizable {
     /// Step `step`'s triangle cannot close: slack (negative) in scene units.
     Infeasible {
-        /// The step (0-based).
+        /// The step (0-based; serialized from 1).
+        #[cfg_attr(feature = "serde", serde(serialize_with = "crate::numbering::step_number"))]
+        #[cfg_attr(feature = "serde", schemars(with = "crate::numbering::StepNo"))]
         step: usize,
         /// Its slack (negative), scene units.
         slack: f64,
     },
     /// Step `step`'s base joints coincide: its vertex is undetermined.
     Degenerate {
-        /// The step (0-based).
+        /// The step (0-based; serialized from 1).
+        #[cfg_attr(feature = "serde", serde(serialize_with = "crate::numbering::step_number"))]
+        #[cfg_attr(feature = "serde", schemars(with = "crate::numbering::StepNo"))]
         step: usize,
     },
 }

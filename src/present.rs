@@ -1,0 +1,448 @@
+//! Sentences for people, made from the solver's data. The solver returns
+//! enums and structs carrying joints, steps and numbers; this module is the
+//! one place that says them in words, for the report, the commands and the
+//! terminal UI alike. Steps and components are numbered from 1 here as
+//! everywhere a person or a script sees them ([`StepNo`], [`ComponentNo`]).
+
+use std::fmt::Write as _;
+
+pub use caymos_core::numbering::{ComponentNo, ItemNo, StepNo};
+
+use crate::analysis::{NoRealization, Warning};
+use crate::cayley_space::{Note, Unresolved};
+use crate::complexity::LccFailure;
+use crate::decompose::{Outside, Step};
+use crate::distance::{Certificate, Outcome};
+use crate::linkage::{Constraint, Linkage};
+use crate::motion::Missing;
+use crate::numfmt::{fmt_num, fmt_sig};
+use crate::realize::Event;
+use crate::realize::{RealizationType, Unrealizable};
+
+/// λ in sentences: as many significant digits as tell two f64 apart, never a
+/// fixed number of decimals (1e-20 and 1e300 print as such).
+pub fn sig(x: f64) -> String {
+    fmt_sig(x, 17)
+}
+
+/// A distance to full precision: the shortest form that reads back exactly,
+/// in scientific notation when tiny or huge.
+pub fn full(x: f64) -> String {
+    if x == 0.0 || (1e-4..1e15).contains(&x.abs()) { format!("{x}") } else { format!("{x:e}") }
+}
+
+/// A type for a text table: long ones (many steps) keep their ends.
+pub fn short_type(ty: &str) -> String {
+    let n = ty.chars().count();
+    if n <= 40 {
+        return ty.to_string();
+    }
+    let head: String = ty.chars().take(16).collect();
+    let tail: String = ty.chars().skip(n - 8).collect();
+    format!("{head}…{tail} ({n} signs)")
+}
+
+/// `v ◁ (u, w)`: vertex `v` placed on `u` and `w` (a step without its number).
+pub fn step_shape(vertex: &str, u: &str, w: &str) -> String {
+    format!("{vertex} ◁ ({u}, {w})")
+}
+
+/// What a sentence needs to name things: the joints' names and, for a
+/// recognised scene, its construction steps.
+#[derive(Clone, Copy)]
+pub struct Names<'a> {
+    pub linkage: &'a Linkage,
+    pub steps: &'a [Step],
+}
+
+impl<'a> Names<'a> {
+    pub fn new(linkage: &'a Linkage, steps: &'a [Step]) -> Self {
+        Names { linkage, steps }
+    }
+
+    fn joint(&self, j: usize) -> &'a str {
+        &self.linkage.names[j]
+    }
+
+    fn joints(&self, js: &[usize]) -> String {
+        js.iter().map(|&j| self.joint(j)).collect::<Vec<_>>().join(", ")
+    }
+
+    /// `step 3 (v ◁ (u, w))`: the one place a step is labelled.
+    pub fn step(&self, k: usize) -> String {
+        match self.steps.get(k) {
+            Some(s) => format!(
+                "step {} ({})",
+                StepNo::of_index(k),
+                step_shape(self.joint(s.vertex), self.joint(s.u), self.joint(s.w))
+            ),
+            None => format!("step {}", StepNo::of_index(k)),
+        }
+    }
+
+    /// `step 3 (v ◁ (u, w)) folded`.
+    pub fn event(&self, e: &Event) -> String {
+        format!("{} {}", self.step(e.step), e.kind.name())
+    }
+}
+
+/// Why a linkage is outside the handled class, naming joints, bars and bodies.
+pub fn outside(o: &Outside, linkage: &Linkage) -> String {
+    let n = Names::new(linkage, &[]);
+    match o {
+        Outside::Disconnected { parts } => {
+            let list: Vec<String> = parts.iter().map(|p| format!("{{{}}}", n.joints(p))).collect();
+            format!("disconnected: {} separate parts: {}", parts.len(), list.join(" "))
+        }
+        Outside::OverConstrained { redundant, dof } => {
+            let what: Vec<String> = redundant.iter().map(|c| constraint(c, linkage)).collect();
+            let rest = match dof {
+                0 => "the rest is rigid".to_string(),
+                1 => "1 degree of freedom remains".to_string(),
+                d => format!("{d} degrees of freedom remain"),
+            };
+            format!("over-constrained: {} redundant ({rest})", what.join(", "))
+        }
+        Outside::Rigid { tree_decomposable: true } => "rigid: no motion (it is tree-decomposable)".to_string(),
+        Outside::Rigid { tree_decomposable: false } => {
+            "rigid: no motion, and not tree-decomposable (not buildable by ruler and compass)".to_string()
+        }
+        Outside::ManyDof { dof } => format!("{dof} degrees of freedom: a 1-dof linkage is needed"),
+        Outside::NotTreeDecomposable => {
+            "1 degree of freedom but not tree-decomposable: no base non-edge makes it buildable by ruler and compass"
+                .to_string()
+        }
+    }
+}
+
+/// `bar A–B` or `body [A, B, C]`.
+pub fn constraint(c: &Constraint, linkage: &Linkage) -> String {
+    match *c {
+        Constraint::Bar(i) => format!("bar {}", linkage.pair_name(linkage.bars[i].joints)),
+        Constraint::Body(i) => format!("body [{}]", Names::new(linkage, &[]).joints(&linkage.bodies[i])),
+    }
+}
+
+/// Why the four-cycle test fails at a step.
+pub fn lcc_failure(f: &LccFailure, n: Names) -> String {
+    let s = &n.steps[f.step];
+    let (u, w) = (n.joint(s.u), n.joint(s.w));
+    let why = if f.opposite.is_empty() {
+        format!("no adjacent pair of built clusters in a four-cycle holds {u} and {w}")
+    } else {
+        let cluster = |js: &[usize]| format!("{{{}}}", js.iter().map(|&j| n.joint(j)).collect::<Vec<_>>().join(","));
+        let pairs: Vec<String> = f.opposite.iter().map(|[a, b]| format!("{} and {}", cluster(a), cluster(b))).collect();
+        format!("{u} and {w} lie on clusters that share no joint (opposite in a four-cycle): {}", pairs.join("; "))
+    };
+    format!("{}: {why}", n.step(f.step))
+}
+
+/// Why (λ, type) has no realization.
+pub fn unrealizable(why: &Unrealizable, ty: &RealizationType, lambda: f64, n: Names) -> String {
+    match *why {
+        Unrealizable::Infeasible { step, slack } => format!(
+            "type {ty} has no realization at λ = {}: {} cannot close (short by {:.3e})",
+            sig(lambda),
+            n.step(step),
+            -slack
+        ),
+        Unrealizable::Degenerate { step } => {
+            let s = &n.steps[step];
+            format!(
+                "type {ty} at λ = {}: step {} has {} and {} at the same point, so {} is undetermined",
+                sig(lambda),
+                StepNo::of_index(step),
+                n.joint(s.u),
+                n.joint(s.w),
+                n.joint(s.vertex)
+            )
+        }
+    }
+}
+
+/// A special event of the Cayley-space computation.
+pub fn note(note: &Note, n: Names) -> String {
+    match note {
+        Note::Coincident { lambda, events } => {
+            let list: Vec<String> = events.iter().map(|e| n.event(e)).collect();
+            format!(
+                "non-generic: at λ = {} several steps are flat at once: {}; the motion may branch there",
+                sig(*lambda),
+                list.join(", ")
+            )
+        }
+        Note::Tangency { lambda, event, inside: false } => format!(
+            "tangency: {} is {} only at the isolated point λ = {}",
+            n.step(event.step),
+            event.kind.name(),
+            sig(*lambda)
+        ),
+        Note::Tangency { lambda, event, inside: true } => format!(
+            "tangency: {} touches {} at λ = {} inside an interval without leaving it",
+            n.step(event.step),
+            event.kind.name(),
+            sig(*lambda)
+        ),
+        Note::Unresolved { lambda, step, why } => {
+            let detail = match why {
+                Unresolved::GapSign => "the slack's sign on one gap disagrees between its two roots".to_string(),
+                Unresolved::Inflections => "the root search could not separate the inflections of d_k".to_string(),
+                Unresolved::NearDoubleRoot => {
+                    "a near-double root: two endpoints or none, not separable at this precision".to_string()
+                }
+                Unresolved::WalkBudget { intervals } => format!("the lazy walk stopped after {intervals} intervals"),
+            };
+            format!("unresolved near λ = {}, {}: {detail}", sig(*lambda), n.step(*step))
+        }
+        Note::ZeroBase { step } => format!(
+            "the base length reaches 0 ({} folded with equal bars): the base joints coincide there",
+            n.step(*step)
+        ),
+        Note::Degenerate { lambda, step } => format!(
+            "degenerate: for some types {} has its base joints coincide for λ in [{}, {}], so its vertex turns freely (an extra degree of freedom); those types are left out there",
+            n.step(*step),
+            sig(lambda[0]),
+            sig(lambda[1])
+        ),
+    }
+}
+
+/// One warning of the analysis, in words.
+pub fn warning(w: &Warning, n: Names) -> String {
+    match w {
+        Warning::BarInBody { bar, body, line } => {
+            let l = n.linkage;
+            let at = line.map(|line| format!(", line {line}")).unwrap_or_default();
+            format!(
+                "bar {} ({}{at}) joins two joints of body {} [{}], which already holds them at that length: the bar adds nothing and is ignored",
+                ItemNo::of_index(*bar),
+                l.pair_name(l.bars[*bar].joints),
+                ItemNo::of_index(*body),
+                n.joints(&l.bodies[*body])
+            )
+        }
+        Warning::FlatInDrawing { step } => {
+            format!("{} is flat in the drawing; its orientation is taken as +", n.step(*step))
+        }
+        Warning::RunsDiffer => {
+            "the f64 and double-double runs found different intervals: some events are closer than f64 separates"
+                .to_string()
+        }
+        Warning::SketchRelocated { ty, drawn_lambda, lambda } => format!(
+            "the sketch's base length λ = {} is not attainable in its type {ty}; realized at the nearest attainable λ = {}",
+            sig(*drawn_lambda),
+            sig(*lambda)
+        ),
+        Warning::DrawnUnrealizable { ty, lambda, why } => unrealizable(why, ty, *lambda, n),
+        Warning::BarResidual { residual } => format!("the drawn realization misses a bar length by {residual:.3e}"),
+        Warning::EstimatedDecisions { count } => format!(
+            "{count} decisions on deep steps (is a slack zero at an end or inside a gap) rest on a double-double error estimate, not a proof: the proven bounds were too wide there (deep constructions, touching slacks)"
+        ),
+        Warning::BranchPoint { lambda, events, ways } => {
+            let what = if *ways == 0 { "a dead end" } else { "a branch point" };
+            let list: Vec<String> =
+                events.iter().map(|e| format!("step {} {}", StepNo::of_index(e.step), e.kind.name())).collect();
+            format!(
+                "{what} at λ = {} ({}): {ways} ways on; each listed component follows the lowest flat step's flip there",
+                sig(*lambda),
+                list.join(", ")
+            )
+        }
+        Warning::Note(x) => note(x, n),
+    }
+}
+
+/// Why a solved scene has no component, in words.
+pub fn no_realization(why: &NoRealization, n: Names, con: &crate::realize::Construction<f64>) -> String {
+    let base = format!("{}–{}", n.joint(con.base[0]), n.joint(con.base[1]));
+    let with_lengths = |k: usize| {
+        let g = &con.steps[k];
+        let (v, u, w) = (n.joint(g.vertex), n.joint(g.u), n.joint(g.w));
+        format!("{}: |{u}{v}| = {}, |{w}{v}| = {}", n.step(k), fmt_num(g.r1), fmt_num(g.r2))
+    };
+    match why {
+        NoRealization::BaseRangesMiss { lower, lower_step, upper, upper_step } => format!(
+            "no realization: the base {base} would have to be at least {} long for {} but at most {} for {}",
+            fmt_num(*lower),
+            with_lengths(*lower_step),
+            fmt_num(*upper),
+            with_lengths(*upper_step)
+        ),
+        NoRealization::NumericFailure { drawn_closes, ty, lambda, scale } => format!(
+            "no realization was found, yet {}: the analysis failed numerically (scene scale {}); please report this scene",
+            if *drawn_closes {
+                format!(
+                    "the drawn realization (type {} at λ = {}) closes every step",
+                    short_type(&ty.to_string()),
+                    fmt_num(*lambda)
+                )
+            } else {
+                "every step stands on the base and their ranges overlap".to_string()
+            },
+            fmt_num(*scale)
+        ),
+        NoRealization::LazyDrawnType { ty, lambda } => format!(
+            "no realization found: the lazy analysis walks from the drawn realization, and its type {} has none at λ = {} (`--all` analyses every type)",
+            short_type(&ty.to_string()),
+            fmt_num(*lambda)
+        ),
+        NoRealization::NoTypeCloses { range } => {
+            let range = range
+                .map(|[lo, hi]| {
+                    format!(
+                        " for any base length in [{}, {}], the range the steps on the base allow",
+                        fmt_num(lo),
+                        fmt_num(hi)
+                    )
+                })
+                .unwrap_or_default();
+            format!("no realization: no orientation type closes every construction step{range}")
+        }
+    }
+}
+
+/// Why a realization could not be located.
+pub fn missing(m: &Missing) -> String {
+    match m {
+        Missing::WrongLength { ty, signs, steps } => {
+            format!("type {ty} has {signs} signs; this scene has {steps} steps")
+        }
+        Missing::NoInterval { ty } => format!("type {ty} has no realization at any λ"),
+        Missing::Elsewhere { ty, lambda, spans } => {
+            let spans: Vec<String> = spans.iter().map(|[a, b]| format!("[{a}, {b}]")).collect();
+            format!("type {ty} is not realizable at λ = {lambda}; it is at λ in {}", spans.join(" ∪ "))
+        }
+    }
+}
+
+/// The closest-pair certificate in words: "certified to …" only when it is.
+pub fn certificate(c: &Certificate) -> String {
+    let (lo, hi, req) = (full(c.lower), full(c.upper), c.requested_gap);
+    let range = format!("the minimum distance lies in [{lo}, {hi}] (relative gap {:.1e})", c.gap);
+    let mut o = match c.outcome {
+        Outcome::Mirror => {
+            return "distance exactly 0: the components are mirror images (every realization's mirror lies in the \
+                    other, with the same Cayley vector)"
+                .into();
+        }
+        Outcome::GapReached if c.certified => format!(
+            "certified to {req:e}: no two realizations, one in each component, are closer than {lo}, and the pair \
+             above is at most {hi} apart (interval arithmetic with outward rounding over {} boxes and {} pairs of \
+             interval ends, every end verified)",
+            c.boxes, c.end_pairs
+        ),
+        Outcome::GapReached => format!("gap {req:e} reached over the intervals as computed: {range}"),
+        Outcome::Resolution if c.upper.is_infinite() => format!(
+            "not certified: f64 interval arithmetic cannot enclose these realizations (their construction is too \
+             deep for its rounding to stay small); proven: no two realizations are closer than {lo}"
+        ),
+        Outcome::Resolution if c.lower == 0.0 && c.upper > 0.0 => format!(
+            "not certified to {req:e}: the Cayley curves meet or nearly so (the pair above is 0 apart up to \
+             rounding); proven: the minimum distance lies in [0, {hi}]"
+        ),
+        Outcome::Resolution => {
+            format!(
+                "not certified to {req:e}: f64 interval arithmetic does not resolve the distance that finely here; proven: {range}"
+            )
+        }
+        Outcome::Budget => {
+            format!("not certified to {req:e}: the budget of {} boxes ran out; proven: {range}", c.max_boxes)
+        }
+    };
+    if c.unverified_ends > 0 {
+        let _ = write!(
+            o,
+            "; not certified: {} interval ends could not be verified (several steps flat at once, or a tangency), \
+             so the bounds hold for the intervals as computed",
+            c.unverified_ends
+        );
+    }
+    o
+}
+
+/// Sentences about a walk that did not simply run from start to end.
+pub fn walk_notes(w: &crate::motion::WalkSummary, max_samples: usize) -> Vec<String> {
+    let mut notes = Vec::new();
+    if w.truncated {
+        notes.push(format!(
+            "stopped at the sample budget ({max_samples} samples) before the end; --max-samples raises it, a larger --step needs fewer"
+        ));
+    }
+    if let Some(l) = w.stopped_at {
+        notes.push(format!("no realization could be computed at λ = {}: the walk ends there", fmt_num(l)));
+    }
+    if !w.jumps.is_empty() {
+        // Jumps that print alike (6 digits) are listed once, with their count.
+        let mut places: Vec<(String, usize)> = Vec::new();
+        for &l in &w.jumps {
+            match places.last_mut() {
+                Some((text, n)) if *text == fmt_num(l) => *n += 1,
+                _ => places.push((fmt_num(l), 1)),
+            }
+        }
+        let shown: Vec<String> =
+            places.iter().take(8).map(|(t, n)| if *n > 1 { format!("{t} ({n} times)") } else { t.clone() }).collect();
+        let more = if places.len() > 8 { format!(", … ({} places)", places.len()) } else { String::new() };
+        notes.push(format!(
+            "{} jump{} (joints move farther than the step between adjacent floats of λ: a degenerate pass; no continuous motion joins the two samples) at λ = {}{more}",
+            w.jumps.len(),
+            if w.jumps.len() == 1 { "" } else { "s" },
+            shown.join(", ")
+        ));
+    }
+    for [from, to] in &w.unresolved {
+        notes.push(format!(
+            "the realization is not resolved in f64 for λ from {} to {} (joints jump at every step there): skipped as one jump",
+            fmt_num(*from),
+            fmt_num(*to)
+        ));
+    }
+    notes
+}
+
+/// In a lazy analysis, which components are known and how they were found.
+pub fn lazy_note(s: &crate::analysis::Solved) -> Option<String> {
+    if !s.lazy {
+        return None;
+    }
+    let n = s.components.list.len();
+    Some(format!(
+        "lazy analysis ({} steps): {n} component{} walked: the drawn realization's{}; `--component K` walks more, `--all` analyses every type (component numbers then follow `report --all`)",
+        s.dec.steps.len(),
+        if n == 1 { "" } else { "s" },
+        if n > 1 {
+            format!(" and those through realizations at the drawn λ = {}, in type order", fmt_num(s.drawn.lambda))
+        } else {
+            String::new()
+        }
+    ))
+}
+
+/// "no component K: …" for the component at index `k`, saying what is known
+/// (all components, or what a lazy analysis walked).
+pub fn missing_component(s: &crate::analysis::Solved, k: usize) -> String {
+    let n = s.components.list.len();
+    if s.lazy {
+        format!(
+            "no component {}: {n} component{} walked lazily (the drawn realization's, then at most {} more per command through realizations at the drawn λ = {}, in type order); `--all` analyses every type",
+            ComponentNo::of_index(k),
+            if n == 1 { "" } else { "s" },
+            crate::tolerance::LAZY_MAX_NEW_COMPONENTS,
+            fmt_num(s.drawn.lambda)
+        )
+    } else {
+        format!(
+            "no component {}: this scene has {n} component{} (1..{n})",
+            ComponentNo::of_index(k),
+            if n == 1 { "" } else { "s" },
+        )
+    }
+}
+
+/// Said when an SVG's traces end at [`crate::tolerance::SVG_MAX_POINTS`].
+pub fn svg_cut_note(joints: usize) -> String {
+    format!(
+        "the traces end early: an SVG keeps at most {} points ({joints} joints traced; --joints traces fewer, a larger --step needs fewer)",
+        crate::tolerance::SVG_MAX_POINTS
+    )
+}
