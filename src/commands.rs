@@ -31,10 +31,14 @@ pub struct Walk {
 /// (the drawing itself when it has none). Falls back to the scene scale for a
 /// drawing of one point.
 pub fn drawing_extent(a: &Analysis) -> f64 {
-    let drawn =
-        a.outcome.as_ref().ok().and_then(|s| s.drawn_positions.clone()).unwrap_or_else(|| a.linkage.drawn_points());
+    extent_of(&a.linkage, a.outcome.as_ref().ok())
+}
+
+/// [`drawing_extent`] from the linkage and its solved analysis, if any.
+pub fn extent_of(linkage: &Linkage, s: Option<&Solved>) -> f64 {
+    let drawn = s.and_then(|s| s.drawn_positions.clone()).unwrap_or_else(|| linkage.drawn_points());
     let d = bounding_diagonal(&drawn);
-    if d > 0.0 && d.is_finite() { d } else { a.linkage.scale }
+    if d > 0.0 && d.is_finite() { d } else { linkage.scale }
 }
 
 /// The default geometric step: [`tolerance::DEFAULT_STEP_FRACTION`] of the drawing's extent.
@@ -521,13 +525,13 @@ pub struct SvgOut {
 /// An SVG of the drawn realization with the traces of `joints` over the
 /// segments. A trace breaks at every jump. Coordinates are mapped to a
 /// 1000-unit view box, so drawings at any scale keep their digits.
-pub fn svg(a: &Analysis, s: &Solved, segments: Vec<Segment>, joints: &[usize], walk: Walk) -> SvgOut {
+pub fn svg(title: &str, linkage: &Linkage, s: &Solved, segments: Vec<Segment>, joints: &[usize], walk: Walk) -> SvgOut {
     // Per joint, runs of points between jumps; a point closer than `gap` to
     // the last one kept is not drawn (it would not show), unless it ends a run.
-    let gap = tolerance::SVG_POINT_GAP_FRACTION * drawing_extent(a);
+    let gap = tolerance::SVG_POINT_GAP_FRACTION * extent_of(linkage, Some(s));
     let mut runs: Vec<Vec<Vec<Point2<f64>>>> = vec![vec![Vec::new()]; joints.len()];
     let mut pending: Vec<Option<Point2<f64>>> = vec![None; joints.len()];
-    let mut stepper = Stepper::new(&s.construction, &a.linkage, segments, walk.step).with_budget(walk.max_samples);
+    let mut stepper = Stepper::new(&s.construction, linkage, segments, walk.step).with_budget(walk.max_samples);
     let (mut kept, mut points_cut) = (0usize, false);
     for sample in stepper.by_ref() {
         if kept + joints.len() > tolerance::SVG_MAX_POINTS {
@@ -557,7 +561,7 @@ pub fn svg(a: &Analysis, s: &Solved, segments: Vec<Segment>, joints: &[usize], w
             run.extend(p);
         }
     }
-    let pose = s.drawn_positions.clone().unwrap_or_else(|| a.linkage.drawn_points());
+    let pose = s.drawn_positions.clone().unwrap_or_else(|| linkage.drawn_points());
     let (mut x0, mut y0, mut x1, mut y1) = (f64::INFINITY, f64::INFINITY, f64::NEG_INFINITY, f64::NEG_INFINITY);
     for p in pose.iter().chain(runs.iter().flatten().flatten()) {
         x0 = x0.min(p[0]);
@@ -581,7 +585,7 @@ pub fn svg(a: &Analysis, s: &Solved, segments: Vec<Segment>, joints: &[usize], w
         r#"<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 {w:.3} {h:.3}" width="800" height="{:.0}">"#,
         800.0 * h / w
     );
-    let _ = writeln!(o, "<title>{} — caymos</title>", xml_escape(&a.scene.name));
+    let _ = writeln!(o, "<title>{} — caymos</title>", xml_escape(title));
     let _ = writeln!(o, "<!-- 1 view unit = {} scene units -->", fmt_num(1.0 / unit));
     let w_sum = stepper.summary().clone();
     let mut notes = present::walk_notes(&w_sum, walk.max_samples);
@@ -604,7 +608,7 @@ pub fn svg(a: &Analysis, s: &Solved, segments: Vec<Segment>, joints: &[usize], w
             );
         }
     }
-    for bar in &a.linkage.bars {
+    for bar in &linkage.bars {
         let (p, q) = (pose[bar.joints[0]], pose[bar.joints[1]]);
         let _ = writeln!(
             o,
@@ -615,7 +619,7 @@ pub fn svg(a: &Analysis, s: &Solved, segments: Vec<Segment>, joints: &[usize], w
             sy(q[1])
         );
     }
-    for body in &a.linkage.bodies {
+    for body in &linkage.bodies {
         let pts: Vec<String> = body.iter().map(|&j| format!("{:.3},{:.3}", sx(pose[j][0]), sy(pose[j][1]))).collect();
         let _ = writeln!(
             o,
@@ -624,7 +628,7 @@ pub fn svg(a: &Analysis, s: &Solved, segments: Vec<Segment>, joints: &[usize], w
         );
     }
     for (j, p) in pose.iter().enumerate() {
-        let ground = a.linkage.ground.contains(&j);
+        let ground = linkage.ground.contains(&j);
         let _ = writeln!(
             o,
             r##"<circle cx="{:.3}" cy="{:.3}" r="{:.3}" fill="{}"/><text x="{:.3}" y="{:.3}" font-size="{:.3}" font-family="sans-serif">{}</text>"##,
@@ -635,7 +639,7 @@ pub fn svg(a: &Analysis, s: &Solved, segments: Vec<Segment>, joints: &[usize], w
             sx(p[0]) + stroke * 3.0,
             sy(p[1]) - stroke * 3.0,
             stroke * 8.0,
-            xml_escape(&a.linkage.names[j])
+            xml_escape(&linkage.names[j])
         );
     }
     o.push_str("</svg>\n");

@@ -169,7 +169,7 @@ fn add_decomposition(report: &mut GraphReport, linkage: &Linkage, dec: &Decompos
             u: n[s.u].clone(),
             w: n[s.w].clone(),
             clusters: [number(s.cluster_u), number(s.cluster_w)],
-            label: format!("{} ◁ ({}, {})", n[s.vertex], n[s.u], n[s.w]),
+            label: present::step_shape(&n[s.vertex], &n[s.u], &n[s.w]),
         })
         .collect();
 }

@@ -401,53 +401,55 @@ fn run(command: Command) -> Result<u8, Failure> {
             }
         }
         Command::Path { scene, from, to, format, analysis, walk } => {
-            let (a, mut s) = solved(scene.as_deref(), &analysis)?;
-            commands::include_specs(&mut s, &[&from, &to]);
+            let mut a = solved(scene.as_deref(), &analysis)?;
             let walk = walk_options(&walk, &a)?;
-            let report = commands::path(&a.linkage, &s, &from, &to, walk).map_err(arg_error)?;
+            let (linkage, s) = parts(&mut a)?;
+            commands::include_specs(s, &[&from, &to]);
+            let report = commands::path(linkage, s, &from, &to, walk).map_err(arg_error)?;
             match format {
                 Format::Json => emit(&format!("{}\n", Versioned::new(&report).to_json())),
                 Format::Text => emit(&report.to_text()),
             }
-            note_all(present::lazy_note(&s));
+            note_all(present::lazy_note(s));
             Ok(0)
         }
         Command::Trace { scene, component, from, to, arc, joints, cayley, output, analysis, walk } => {
-            let (a, mut s) = solved(scene.as_deref(), &analysis)?;
-            commands::include_specs(&mut s, &[from.as_deref().unwrap_or("drawn"), to.as_deref().unwrap_or("drawn")]);
-            if let Some(k) = component {
-                commands::walk_components(&mut s, k.number());
-            }
+            let mut a = solved(scene.as_deref(), &analysis)?;
             let walk = walk_options(&walk, &a)?;
-            let joints = commands::parse_joints(&a.linkage, joints.as_deref()).map_err(arg_error)?;
+            let (linkage, s) = parts(&mut a)?;
+            commands::include_specs(s, &[from.as_deref().unwrap_or("drawn"), to.as_deref().unwrap_or("drawn")]);
+            if let Some(k) = component {
+                commands::walk_components(s, k.number());
+            }
+            let joints = commands::parse_joints(linkage, joints.as_deref()).map_err(arg_error)?;
             let between = from.as_deref().zip(to.as_deref()).map(|(f, t)| (f, t, arc));
             let component = component.map(ComponentNo::index);
-            let segments = commands::trace_segments(&a.linkage, &s, component, between).map_err(arg_error)?;
-            let summary = write_streamed(output, |out| {
-                commands::trace_csv(&a.linkage, &s, segments, &joints, walk, cayley, out)
-            })?;
-            note_all(present::lazy_note(&s).into_iter().chain(present::walk_notes(&summary, walk.max_samples)));
+            let segments = commands::trace_segments(linkage, s, component, between).map_err(arg_error)?;
+            let summary =
+                write_streamed(output, |out| commands::trace_csv(linkage, s, segments, &joints, walk, cayley, out))?;
+            note_all(present::lazy_note(s).into_iter().chain(present::walk_notes(&summary, walk.max_samples)));
             Ok(0)
         }
         Command::Closest { scene, components, gap, format, analysis } => {
-            let (a, mut s) = solved(scene.as_deref(), &analysis)?;
+            let mut a = solved(scene.as_deref(), &analysis)?;
+            let (linkage, s) = parts(&mut a)?;
             let pair: Vec<Option<ComponentNo>> = components.split(',').map(ComponentNo::parse).collect();
             let [Some(i), Some(j)] = pair[..] else {
                 return Err(arg_error(format!(
                     "--components {components}: give two component numbers as in the report (from 1), e.g. 1,4"
                 )));
             };
-            commands::walk_components(&mut s, i.max(j).number());
+            commands::walk_components(s, i.max(j).number());
             let opts = caymos::distance::ClosestOptions { gap, ..Default::default() };
-            let c = commands::closest_with(&a.linkage, &s, i.index(), j.index(), opts).map_err(arg_error)?;
+            let c = commands::closest_with(linkage, s, i.index(), j.index(), opts).map_err(arg_error)?;
             match format {
                 Format::Json => {
                     emit(&format!("{}\n", Versioned::new(&c).to_json()));
-                    note_all(present::lazy_note(&s));
+                    note_all(present::lazy_note(s));
                 }
                 Format::Text => {
                     emit(&c.to_text());
-                    if let Some(note) = present::lazy_note(&s) {
+                    if let Some(note) = present::lazy_note(s) {
                         emit(&format!("  note: {note}\n"));
                     }
                 }
@@ -511,20 +513,22 @@ fn run(command: Command) -> Result<u8, Failure> {
             Ok(0)
         }
         Command::Svg { scene, component, joints, output, analysis, walk } => {
-            let (a, mut s) = solved(scene.as_deref(), &analysis)?;
-            if let Some(k) = component {
-                commands::walk_components(&mut s, k.number());
-            }
+            let mut a = solved(scene.as_deref(), &analysis)?;
             let walk = walk_options(&walk, &a)?;
-            let joints = commands::parse_joints(&a.linkage, joints.as_deref()).map_err(arg_error)?;
+            let title = a.scene.name.clone();
+            let (linkage, s) = parts(&mut a)?;
+            if let Some(k) = component {
+                commands::walk_components(s, k.number());
+            }
+            let joints = commands::parse_joints(linkage, joints.as_deref()).map_err(arg_error)?;
             let component = component.map(ComponentNo::index);
-            let segments = commands::trace_segments(&a.linkage, &s, component, None).map_err(arg_error)?;
-            let svg = commands::svg(&a, &s, segments, &joints, walk);
+            let segments = commands::trace_segments(linkage, s, component, None).map_err(arg_error)?;
+            let svg = commands::svg(&title, linkage, s, segments, &joints, walk);
             write_out(output, &svg.text)?;
             if svg.points_cut {
                 note_all([present::svg_cut_note(joints.len())]);
             }
-            note_all(present::lazy_note(&s).into_iter().chain(present::walk_notes(&svg.walk, walk.max_samples)));
+            note_all(present::lazy_note(s).into_iter().chain(present::walk_notes(&svg.walk, walk.max_samples)));
             Ok(0)
         }
     }
@@ -546,7 +550,7 @@ fn emit(text: &str) {
 
 /// Load and analyse a scene that must be in the handled class and have a
 /// realization (exit 2 outside the class, 1 with no realization, saying why).
-fn solved(scene: Option<&str>, args: &AnalysisArgs) -> Result<(Analysis, Solved), Failure> {
+fn solved(scene: Option<&str>, args: &AnalysisArgs) -> Result<Analysis, Failure> {
     let scene = bundled::resolve(scene)?;
     let base = args.base.as_deref().map(|b| parse_base(&scene, b)).transpose()?;
     let analysis = analyse_with(scene, base, if args.all { Scope::Full } else { Scope::Auto })?;
@@ -554,15 +558,25 @@ fn solved(scene: Option<&str>, args: &AnalysisArgs) -> Result<(Analysis, Solved)
         f.body.file = Some(analysis.scene.source.clone());
         f
     };
-    match analysis.outcome.clone() {
-        Ok(s) => match commands::require_component(&analysis.linkage, &s) {
-            Err(why) => Err(at_file(Failure::new(ErrorKind::NoRealization, why))),
-            Ok(()) => Ok((analysis, s)),
+    let why = match &analysis.outcome {
+        Ok(s) => match commands::require_component(&analysis.linkage, s) {
+            Ok(()) => return Ok(analysis),
+            Err(why) => Failure::new(ErrorKind::NoRealization, why),
         },
-        Err(o) => Err(at_file(Failure::new(
+        Err(o) => Failure::new(
             ErrorKind::OutsideClass,
-            format!("outside the handled class: {}", present::outside(&o, &analysis.linkage)),
-        ))),
+            format!("outside the handled class: {}", present::outside(o, &analysis.linkage)),
+        ),
+    };
+    Err(at_file(why))
+}
+
+/// The linkage and the one solved analysis of `a`, borrowed apart so a
+/// command can extend the analysis (walk more components) while naming joints.
+fn parts(a: &mut Analysis) -> Result<(&caymos::linkage::Linkage, &mut Solved), Failure> {
+    match &mut a.outcome {
+        Ok(s) => Ok((&a.linkage, s)),
+        Err(o) => Err(Failure::new(ErrorKind::OutsideClass, present::outside(o, &a.linkage))),
     }
 }
 

@@ -239,7 +239,7 @@ fn motion_commands_run_on_every_bundled_scene() {
         assert!(csv.lines().count() > 3, "{}", b.name);
         assert_eq!(csv.lines().count(), summary.samples + 1, "{}", b.name);
         assert!(summary.complete(), "{}", b.name);
-        let svg = commands::svg(&a, &s, segs, &[0], step);
+        let svg = commands::svg(&a.scene.name, &a.linkage, &s, segs, &[0], step);
         assert!(svg.text.starts_with("<svg") && svg.text.contains("polyline") && !svg.points_cut);
         if s.components.list.len() >= 2 {
             let c = commands::closest(&a.linkage, &s, 0, 1).unwrap();
