@@ -291,7 +291,7 @@ pub fn closest_with(
         return Err(format!("--gap {}: give a relative gap between 0 and 1, e.g. 1e-9", opts.gap));
     }
     let (ci, cj) = (&s.components.list[i], &s.components.list[j]);
-    let c = closest_pair(&s.construction, &s.dec, &s.space, &s.complexity.ccv, (ci, cj), opts)
+    let c = closest_pair(&s.construction, s.mirrors, &s.space, &s.complexity.ccv, (ci, cj), opts)
         .ok_or_else(|| "no realizations to compare".to_string())?;
     Ok(closest_out(s, &c, (i, j)))
 }

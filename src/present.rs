@@ -238,6 +238,7 @@ pub fn warning(w: &Warning, n: Names) -> String {
         Warning::EstimatedDecisions { count } => format!(
             "{count} decisions on deep steps (is a slack zero at an end or inside a gap) rest on a double-double error estimate, not a proof: the proven bounds were too wide there (deep constructions, touching slacks)"
         ),
+        Warning::MirrorsAtResolution => "every cluster the steps stand on is flat to double-double resolution, some not provably (three or more joints on a line as written): mirror images of realizations are taken to be realizations, and mirror-image components to be at distance 0 (not certified)".to_string(),
         Warning::BranchPoint { lambda, events, ways } => {
             let what = if *ways == 0 { "a dead end" } else { "a branch point" };
             let list: Vec<String> =

@@ -366,7 +366,7 @@ impl Report {
                     .collect();
                 r.no_realization = crate::analysis::no_realization(s, l.scale)
                     .map(|why| Said { message: present::no_realization(&why, names, &s.construction), data: why });
-                r.mirror_pairs = crate::cayley_vector::mirror_images_exist(&s.construction, &s.dec);
+                r.mirror_pairs = s.mirrors.exist();
                 r.accuracy = s.accuracy.as_ref().map(|acc| AccuracyReport {
                     reference: ReferenceArithmetic::DoubleDouble,
                     max_endpoint_error_estimate: acc.max_endpoint_error,

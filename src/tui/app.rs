@@ -6,7 +6,7 @@
 use nalgebra::{Rotation3, Vector3};
 
 use crate::analysis::{Analysis, Solved};
-use crate::cayley_vector::{cayley_vector, mirror_images_exist};
+use crate::cayley_vector::cayley_vector;
 use crate::commands::{self, PathReport, Walk};
 use crate::motion::{Segment, Stepper, arcs, component_segments, locate, realization_at};
 use crate::realize::{Point2, Realization, RealizationType};
@@ -355,7 +355,7 @@ impl Model {
         let ccv_len = solved.complexity.ccv.len();
         let cayley = cayley_vector(&positions, &solved.complexity.ccv);
         let axes = [0, 1.min(ccv_len.saturating_sub(1)), 2.min(ccv_len.saturating_sub(1))];
-        let picture = Picture { mirror: mirror_images_exist(&solved.construction, &solved.dec), ..Picture::default() };
+        let picture = Picture { mirror: solved.mirrors.exist(), ..Picture::default() };
         let mut m = Model {
             cursor: Cursor {
                 motion: Motion::Component(0),

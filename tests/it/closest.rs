@@ -54,7 +54,7 @@ fn segment_of(s: &Solved, k: usize, r: &Realization) -> Option<Segment> {
 /// and the pair it names lies in the two components at that distance.
 fn check_pair(a: &Analysis, s: &Solved, (i, j): (usize, usize), opts: ClosestOptions) -> ClosestPair {
     let (ca, cb) = (&s.components.list[i], &s.components.list[j]);
-    let c = closest_pair(&s.construction, &s.dec, &s.space, &s.complexity.ccv, (ca, cb), opts).unwrap();
+    let c = closest_pair(&s.construction, s.mirrors, &s.space, &s.complexity.ccv, (ca, cb), opts).unwrap();
     let cert = &c.certificate;
     let name = &a.scene.name;
     let scale = s.construction.scale;
@@ -267,4 +267,39 @@ fn closest_through_the_binary_reports_its_certificate() {
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(text.contains("Cayley distance 143.87") && text.contains("certified to 1e-9"), "{text}");
     assert_eq!(run(&["closest", "limacon", "--components", "1,3", "--gap", "2"]).status.code(), Some(1));
+}
+
+/// Mirror pairs are decided in proven arithmetic: bars only is proven, a
+/// rigid triangle proven not, three joints on a line as written is flat to
+/// double-double resolution only, said as a warning and not certified.
+#[test]
+fn mirror_pairs_are_proven_or_said_to_be_at_resolution() {
+    use caymos::analysis::Warning;
+    use caymos::cayley_vector::Mirrors;
+    let (_, s) = solved("fourbar-non-grashof");
+    assert_eq!(s.mirrors, Mirrors::Yes);
+    let (_, s) = solved("jansen");
+    assert_eq!(s.mirrors, Mirrors::No);
+    let straight_coupler = r#"
+ground = ["A", "D"]
+bars = [["A", "B"], ["C", "D"], ["D", "A"]]
+bodies = [["B", "E", "C"]]
+[joints]
+A = [0, 0]
+B = [0, 1]
+E = [1.5, 1.5]
+C = [3, 2]
+D = [3.5, 0]
+"#;
+    let scene = caymos::scene::parse_scene(straight_coupler, "straight.toml", "straight").unwrap();
+    let (a, s) = solve(scene);
+    assert_eq!(s.mirrors, Mirrors::AtResolution);
+    assert!(a.warnings.contains(&Warning::MirrorsAtResolution), "{:?}", a.warnings);
+    // A Grashof crank-rocker (1 + 3.5 < √10 + √4.25): two components, mirror images.
+    assert_eq!(s.components.list.len(), 2);
+    let (ca, cb) = (&s.components.list[0], &s.components.list[1]);
+    let c = closest_pair(&s.construction, s.mirrors, &s.space, &s.complexity.ccv, (ca, cb), ClosestOptions::default())
+        .unwrap();
+    assert_eq!(c.certificate.outcome, Outcome::Mirror);
+    assert!(!c.certificate.certified, "flat only to double-double resolution: not a proof");
 }

@@ -4,6 +4,7 @@
 use std::time::Instant;
 
 use crate::cayley_space::{CayleySpace, Method, Note, OrientedInterval, cayley_space, union};
+use crate::cayley_vector::{Mirrors, mirror_images};
 use crate::certify::Certifier;
 use crate::complexity::{Complexity, four_cycle_test};
 use crate::decompose::{Decomposition, Outside, decompose};
@@ -92,6 +93,8 @@ pub struct Solved {
     pub construction: Construction<f64>,
     /// The construction in proven (ball) arithmetic, for structural decisions.
     pub certifier: Certifier,
+    /// Whether mirror images of realizations are realizations too (proven).
+    pub mirrors: Mirrors,
     /// The drawn realization's (λ, type) and the steps flat in the drawing.
     pub drawn: Drawn,
     /// The drawn realization in the display frame (the drawing itself unless a sketch).
@@ -326,6 +329,10 @@ pub enum Warning {
         /// How many decisions.
         count: usize,
     },
+    /// Every cluster a step stands on is flat to double-double resolution,
+    /// some not provably (three or more joints on a line as written): mirror
+    /// pairs are taken to exist, a non-generic place ([`Mirrors::AtResolution`]).
+    MirrorsAtResolution,
     /// A branch point (`ways` > 0 ways on) or a dead end (`ways` == 0) at λ.
     BranchPoint {
         /// Where (base length).
@@ -610,11 +617,16 @@ pub fn analyse_with(scene: Scene, base_override: Option<[usize; 2]>, scope: Scop
         .as_ref()
         .and_then(|_| locate(&space, &Realization { ty: drawn.ty.clone(), lambda: drawn.lambda }, linkage.scale));
     let drawn_component = drawn_interval.map(|i| components.of_interval[i]);
+    let mirrors = mirror_images(&certifier, &dec, linkage.scale);
+    if mirrors == Mirrors::AtResolution {
+        warnings.push(Warning::MirrorsAtResolution);
+    }
     let solved = Solved {
         dec,
         complexity,
         construction,
         certifier,
+        mirrors,
         drawn,
         drawn_positions,
         sketch,

@@ -114,6 +114,31 @@ impl Certifier {
         if (s.r1 - s.r2).sign().is_none() { &[Kind::Stretched] } else { &[Kind::Stretched, Kind::Folded] }
     }
 
+    /// Whether cluster `c`'s joints lie on one line: `Some(true)` for two
+    /// joints, `Some(false)` when a joint is proven off the line of the first
+    /// two (double-double balls from the lengths and coordinates as written),
+    /// `None` when every cross product is zero to double-double resolution
+    /// (flat, but not provably: a non-generic place). Differences are taken
+    /// in units of `scale`, so no product of two lengths over- or underflows.
+    pub fn cluster_flat(&self, c: usize, scale: f64) -> Option<bool> {
+        let shape = &self.dd_balls.shapes[c];
+        if shape.len() <= 2 {
+            return Some(true);
+        }
+        let unit = Ball::exact(Dd::from_f64(scale));
+        let (p, q) = (shape[0].1, shape[1].1);
+        let (ux, uy) = ((q[0] - p[0]) / unit, (q[1] - p[1]) / unit);
+        let mut proven_flat = true;
+        for &(_, r) in &shape[2..] {
+            let (vx, vy) = ((r[0] - p[0]) / unit, (r[1] - p[1]) / unit);
+            match (ux * vy - uy * vx).sign() {
+                Some(_) => return Some(false),
+                None => proven_flat = false,
+            }
+        }
+        proven_flat.then_some(true)
+    }
+
     /// Whether two steps are flat at the same base length: the proven sign
     /// of `a`'s flat distance minus `b`'s (for steps on the base, whose
     /// flat distances are the λ of their events).

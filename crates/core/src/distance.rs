@@ -15,8 +15,7 @@ use std::collections::{BinaryHeap, HashMap};
 use std::rc::Rc;
 
 use crate::cayley_space::CayleySpace;
-use crate::cayley_vector::{cayley_vector, euclid, mirror_images_exist, mirror_type};
-use crate::decompose::Decomposition;
+use crate::cayley_vector::{Mirrors, cayley_vector, euclid, mirror_type};
 use crate::enclosure::{Half, enclose, halves};
 use crate::interval::{Centred, Dual, Interval};
 use crate::motion::{Component, Segment, component_segments};
@@ -556,7 +555,7 @@ impl Search<'_> {
 /// segment.
 pub fn closest_pair(
     con: &Construction<f64>,
-    dec: &Decomposition,
+    mirrors: Mirrors,
     space: &CayleySpace<f64>,
     ccv: &[[usize; 2]],
     (ca, cb): (&Component, &Component),
@@ -566,7 +565,7 @@ pub fn closest_pair(
     if seg_a.is_empty() || seg_b.is_empty() {
         return None;
     }
-    if let Some(pair) = mirror_pair(con, dec, space, (ca, cb), &seg_a, opts) {
+    if let Some(pair) = mirror_pair(mirrors, space, (ca, cb), &seg_a, opts) {
         return Some(pair);
     }
     let (ha, hb) = (halves(con, space, &seg_a), halves(con, space, &seg_b));
@@ -642,16 +641,16 @@ fn named(
 }
 
 /// When every cluster is achiral and B holds the mirror image of every
-/// interval of A, the components are mirror images: distance exactly 0.
+/// interval of A, the components are mirror images: distance exactly 0
+/// (certified only when the clusters are proven flat, see [`Mirrors`]).
 fn mirror_pair(
-    con: &Construction<f64>,
-    dec: &Decomposition,
+    mirrors: Mirrors,
     space: &CayleySpace<f64>,
     (ca, cb): (&Component, &Component),
     seg_a: &[Segment],
     opts: ClosestOptions,
 ) -> Option<ClosestPair> {
-    if !mirror_images_exist(con, dec) {
+    if !mirrors.exist() {
         return None;
     }
     let in_b = |ty: &RealizationType| cb.intervals.iter().any(|&j| &space.intervals[j].ty == ty);
@@ -666,7 +665,7 @@ fn mirror_pair(
         gap: 0.0,
         requested_gap: opts.gap,
         outcome: Outcome::Mirror,
-        certified: true,
+        certified: mirrors == Mirrors::Yes,
         boxes: 0,
         max_boxes: opts.max_boxes,
         end_pairs: 0,

@@ -233,11 +233,6 @@ pub const APPROACH_MAX_SAMPLES: usize = 24;
 /// the first of these (× scale) that realizes.
 pub const DEGENERATE_NUDGES: [f64; 3] = [1e-12, 1e-10, 1e-8];
 
-/// A cluster is achiral (its mirror image is itself moved) when every
-/// joint's cross product with its first edge is below this × the edge's
-/// squared length: all its joints on a line.
-pub const COLLINEAR: f64 = 1e-12;
-
 /// The relative gap the closest pair is certified to by default
 /// (`closest --gap`): upper − lower ≤ gap × upper.
 pub const DEFAULT_GAP: f64 = 1e-9;
