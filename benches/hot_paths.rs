@@ -1,6 +1,8 @@
 //! `cargo bench`: the hot paths, measured by criterion (kept out of `cargo test`).
 //! One realization, the full Cayley space of the Jansen leg, one component
-//! walk (exhaustive linking and the lazy walk), one trace.
+//! walk (exhaustive linking and the lazy walk), one trace; the full analysis
+//! (recognition → components, no self-check) of the small scenes, and the
+//! recognition and four-cycle test of a 5000-step chain.
 
 use std::hint::black_box;
 
@@ -10,6 +12,24 @@ use caymos::lazy::{LazyOptions, component_through};
 use caymos::motion::{Stepper, component_segments, components};
 use caymos::real::Jet;
 use criterion::{Criterion, criterion_group, criterion_main};
+
+fn small_scenes(c: &mut Criterion) {
+    for name in ["fourbar-crank-rocker", "jansen", "limacon"] {
+        let scene = caymos::bundled::load(name).expect("bundled");
+        c.bench_function(&format!("{name} full analysis (no self-check)"), |b| {
+            b.iter(|| caymos::bench::full_analysis_phases(black_box(&scene), None))
+        });
+    }
+    let chain = caymos::generate::chain(5000);
+    let linkage = caymos::linkage::Linkage::from_scene(&chain);
+    let base = chain.base.map(|b| b.0);
+    c.bench_function("5000-step chain recognition + four-cycle test", |b| {
+        b.iter(|| {
+            let dec = caymos::decompose::decompose(black_box(&linkage), base).expect("in class").expect("valid base");
+            caymos::complexity::four_cycle_test(&linkage, &dec)
+        })
+    });
+}
 
 fn hot_paths(c: &mut Criterion) {
     let scene = caymos::bundled::load("jansen").expect("bundled");
@@ -58,6 +78,6 @@ fn hot_paths(c: &mut Criterion) {
 criterion_group! {
     name = benches;
     config = Criterion::default().sample_size(20);
-    targets = hot_paths
+    targets = small_scenes, hot_paths
 }
 criterion_main!(benches);

@@ -5,11 +5,13 @@
 //! component against chord error (how far the straight line between two
 //! samples strays from the true motion) and bar-length residual.
 
+use std::collections::BTreeMap;
+use std::hint::black_box;
 use std::time::Instant;
 
 use serde::Serialize;
 
-use crate::analysis::{Analysis, Solved};
+use crate::analysis::{Analysis, Solved, Timings};
 use crate::cayley_space::{Method, cayley_space};
 use crate::invert::Inverter;
 use crate::lazy::{LazyOptions, component_through};
@@ -100,6 +102,27 @@ pub struct ScalingRow {
     pub max_endpoint_error: Option<f64>,
 }
 
+/// The like-for-like figure of one scene: the full analysis (recognition →
+/// components, no self-check) against one f64 realization of the drawn type,
+/// both medians from the same run.
+#[derive(Debug, Clone, Serialize)]
+pub struct AnalysisRow {
+    pub scene: String,
+    /// Recognition, four-cycle test, constructions, Cayley space (exact) and components.
+    pub full_analysis_us: f64,
+    /// One full realization of the drawn type at the drawn λ, in f64.
+    pub realization_us: f64,
+    /// Median time of each phase of the full analysis.
+    pub phases_us: BTreeMap<String, f64>,
+}
+
+impl AnalysisRow {
+    /// The full analysis in realizations-equivalent.
+    pub fn realizations(&self) -> f64 {
+        self.full_analysis_us / self.realization_us
+    }
+}
+
 /// A scene that was not benchmarked, and why.
 #[derive(Debug, Clone, Serialize, schemars::JsonSchema)]
 pub struct Skipped {
@@ -111,6 +134,7 @@ pub struct Skipped {
 pub struct BenchReport {
     pub repeat: usize,
     pub methods: Vec<MethodRow>,
+    pub analysis: Vec<AnalysisRow>,
     pub stepping: Vec<StepRow>,
     pub scaling: Vec<ScalingRow>,
     pub skipped: Vec<Skipped>,
@@ -152,6 +176,92 @@ pub fn scaling_row(family: &str, scene: crate::scene::Scene, repeat: usize) -> O
         us_per_step_interval: lazy_us / (n * space.intervals.len().max(1)) as f64,
         max_endpoint_error,
     })
+}
+
+/// The full analysis of a small scene (recognition → components, without
+/// the double-double self-check), timed by phase; `None` outside the class
+/// or above [`crate::analysis::LAZY_ABOVE_STEPS`] steps (no full analysis there).
+pub fn analysis_row(scene: &crate::scene::Scene, repeat: usize) -> Option<AnalysisRow> {
+    let linkage = crate::linkage::Linkage::from_scene(scene);
+    let requested = scene.base.map(|b| b.0);
+    let dec = crate::decompose::decompose(&linkage, requested).ok()?.ok()?;
+    if dec.steps.len() > crate::analysis::LAZY_ABOVE_STEPS {
+        return None;
+    }
+    let con = Construction::<f64>::new(&linkage, &dec).ok()?;
+    let drawn = crate::realize::drawn_realization(&linkage, &dec);
+    // Runs of a few µs: each sample times a batch sized to about 200 µs.
+    let batch = |f: &mut dyn FnMut()| {
+        let t = Instant::now();
+        f();
+        let once = t.elapsed().as_secs_f64() * 1e6;
+        ((200.0 / once.max(1e-3)) as usize).clamp(1, 100_000)
+    };
+    let mut realize = || {
+        black_box(con.realize(black_box(drawn.lambda), black_box(&drawn.ty)).ok());
+    };
+    let n_real = batch(&mut realize);
+    let mut full = || {
+        black_box(full_analysis_phases(black_box(scene), requested));
+    };
+    let n_full = batch(&mut full);
+    let mut real_times = Vec::with_capacity(repeat);
+    let mut full_times = Vec::with_capacity(repeat);
+    let mut phases: BTreeMap<String, Vec<f64>> = BTreeMap::new();
+    // Interleaved, so both medians see the same machine load.
+    for _ in 0..repeat.max(1) {
+        let t = Instant::now();
+        for _ in 0..n_real {
+            realize();
+        }
+        real_times.push(t.elapsed().as_secs_f64() * 1e6 / n_real as f64);
+        let t = Instant::now();
+        for _ in 0..n_full {
+            full();
+        }
+        full_times.push(t.elapsed().as_secs_f64() * 1e6 / n_full as f64);
+        let (_, timings) = full_analysis_phases(scene, requested);
+        for (phase, us) in timings.0 {
+            phases.entry(phase.to_string()).or_default().push(us);
+        }
+    }
+    let median = |mut v: Vec<f64>| {
+        v.sort_by(f64::total_cmp);
+        v[v.len() / 2]
+    };
+    Some(AnalysisRow {
+        scene: scene.name.clone(),
+        full_analysis_us: median(full_times),
+        realization_us: median(real_times),
+        phases_us: phases.into_iter().map(|(k, v)| (k, median(v))).collect(),
+    })
+}
+
+/// The phases of [`crate::analysis::analyse_with`] from the scene to the
+/// components, without the double-double self-check or the display frame:
+/// the like-for-like figure. Returns the component count (to keep the work
+/// observable) and each phase's time.
+pub fn full_analysis_phases(scene: &crate::scene::Scene, requested: Option<[usize; 2]>) -> (usize, Timings) {
+    let mut t = Timings::default();
+    let linkage = t.time("linkage", || crate::linkage::Linkage::from_scene(scene));
+    let Ok(Ok(dec)) = t.time("decompose", || crate::decompose::decompose(&linkage, requested)) else {
+        return (0, t);
+    };
+    let cx = t.time("four_cycle", || crate::complexity::four_cycle_test(&linkage, &dec));
+    let built = t.time("construction", || {
+        let con = Construction::<f64>::new(&linkage, &dec).ok()?;
+        let cert = crate::certify::Certifier::new(&linkage, &dec)?;
+        let drawn = crate::realize::drawn_realization(&linkage, &dec);
+        Some((con, cert, drawn))
+    });
+    let Some((con, cert, _drawn)) = built else { return (0, t) };
+    let space =
+        t.time("cayley_space", || cayley_space(&con, &cert, con.convert::<Jet<f64>>(), &dec, &cx, Method::Exact));
+    let comps = t.time("components", || {
+        black_box(crate::cayley_space::union(&space.intervals, linkage.scale));
+        crate::motion::components(&space)
+    });
+    (comps.list.len(), t)
 }
 
 /// Median wall time of `f` in microseconds over `repeat` runs after one warm-up.
@@ -381,9 +491,31 @@ impl BenchReport {
         for sk in &self.skipped {
             o.push_str(&format!("Skipped {}: {}\n", sk.scene, sk.reason));
         }
-        if self.methods.is_empty() && self.scaling.is_empty() {
+        if self.methods.is_empty() && self.scaling.is_empty() && self.analysis.is_empty() {
             o.push_str("Nothing to benchmark.\n");
             return o;
+        }
+        if !self.analysis.is_empty() {
+            o.push_str(&format!(
+                "Full analysis (recognition → components, no self-check) against one f64 realization: median of {} runs\n",
+                self.repeat
+            ));
+            let rows: Vec<[String; 5]> = self
+                .analysis
+                .iter()
+                .map(|r| {
+                    let phases: Vec<String> = r.phases_us.iter().map(|(k, v)| format!("{k} {}", fmt_num(*v))).collect();
+                    [
+                        r.scene.clone(),
+                        fmt_num(r.full_analysis_us),
+                        fmt_num(r.realization_us),
+                        format!("{:.0}", r.realizations()),
+                        phases.join(", "),
+                    ]
+                })
+                .collect();
+            write_table(&mut o, &["scene", "analysis µs", "realization µs", "realizations", "phases µs"], &rows);
+            o.push('\n');
         }
         o.push_str(&format!(
             "Cayley space: median of {} runs; errors against the double-double exact run, relative to scene scale\n",

@@ -472,11 +472,13 @@ fn run(command: Command) -> Result<u8, Failure> {
             let mut report = caymos::bench::BenchReport {
                 repeat,
                 methods: Vec::new(),
+                analysis: Vec::new(),
                 stepping: Vec::new(),
                 scaling: Vec::new(),
                 skipped: Vec::new(),
             };
             for scene in inputs {
+                report.analysis.extend(caymos::bench::analysis_row(&scene, repeat));
                 let analysis = analyse(scene, None)?;
                 match analysis.outcome.clone() {
                     Ok(solved) => {

@@ -290,7 +290,7 @@ impl Report {
             Ok(s) => {
                 r.base = Some(pair(s.dec.base));
                 r.base_chosen_automatically = s.dec.base_chosen;
-                r.other_bases = s.dec.other_bases.iter().map(|&p| pair(p)).collect();
+                r.other_bases = s.dec.other_bases(l).into_iter().map(pair).collect();
                 r.steps = s
                     .dec
                     .steps

@@ -23,7 +23,8 @@ use crate::scene::{Scene, SceneError};
 pub struct Timings(pub Vec<(&'static str, f64)>);
 
 impl Timings {
-    fn time<R>(&mut self, phase: &'static str, f: impl FnOnce() -> R) -> R {
+    /// Run `f`, recording its wall time under `phase`.
+    pub fn time<R>(&mut self, phase: &'static str, f: impl FnOnce() -> R) -> R {
         let start = Instant::now();
         let out = f();
         self.0.push((phase, start.elapsed().as_secs_f64() * 1e6));

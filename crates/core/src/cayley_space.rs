@@ -349,7 +349,11 @@ impl<T: Real> Sweep<'_, T> {
         for g in 0..n_gaps {
             let a = if g == 0 { piece.lo.lambda } else { inside[g - 1].lambda };
             let b = if g == n_gaps - 1 { piece.hi.lambda } else { inside[g].lambda };
-            let proven = self.gap_closes(k, bits, a, b);
+            // A piece without a root of step k inside, whose both ends prove
+            // both slacks positive, closes all along (a sign change would be
+            // a root): the ends' proofs decide, no midpoint is needed.
+            let ends_close = n_gaps == 1 && ends.iter().flatten().all(|&s| s == Sign::Positive);
+            let proven = if ends_close { Some(true) } else { self.gap_closes(k, bits, a, b) };
             let slot = proven.unwrap_or_else(|| {
                 let from_left = if g == 0 { at_lo.first().map(|r| r.right) } else { Some(inside[g - 1].right) };
                 let from_right = if g == n_gaps - 1 { at_hi.first().map(|r| r.left) } else { Some(inside[g].left) };

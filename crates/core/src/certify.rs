@@ -22,7 +22,8 @@
 //! λ* lies inside), and the other slacks are evaluated on that whole
 //! bracket with the flat steps placed exactly flat — the realization at λ*.
 
-use std::cell::Cell;
+use std::cell::{Cell, OnceCell, RefCell};
+use std::collections::HashMap;
 
 use crate::decompose::Decomposition;
 use crate::linkage::Linkage;
@@ -51,15 +52,34 @@ impl Sign {
     }
 }
 
-/// The construction in the three arithmetics a decision may need.
+/// The construction in the three arithmetics a decision may need. The
+/// double-double ones are built on first use: most scenes decide every
+/// question in f64 balls.
 #[derive(Debug, Clone)]
 pub struct Certifier {
     f64_balls: Construction<Ball<f64>>,
-    dd_balls: Construction<Ball<Dd>>,
     f64_plain: Construction<f64>,
-    dd_plain: Construction<Dd>,
-    dd_jets: Construction<Jet<Dd>>,
+    dd: OnceCell<DdConstructions>,
+    linkage: Linkage,
+    dec: Decomposition,
+    /// Per step: the ways it can stop closing (see [`Certifier::kinds`]).
+    kinds: Vec<&'static [Kind]>,
+    /// Proven end brackets already searched, keyed by [`BracketKey`]
+    /// (the same end is asked about once per later step).
+    brackets: RefCell<HashMap<BracketKey, Option<f64>>>,
     estimated: Cell<usize>,
+}
+
+/// An end's bracket depends on its λ, its first flat event, the type bits
+/// before that step and the arithmetic (f64 or double-double balls).
+type BracketKey = ([u64; 2], Event, u128, bool);
+
+/// The double-double constructions, built together on first use.
+#[derive(Debug, Clone)]
+struct DdConstructions {
+    balls: Construction<Ball<Dd>>,
+    plain: Construction<Dd>,
+    jets: Construction<Jet<Dd>>,
 }
 
 /// Whether a step closes at a point (see [`Certifier::closes`]).
@@ -95,14 +115,47 @@ pub struct At<'a> {
 impl Certifier {
     /// The construction in every arithmetic a decision may need; `None` when a cluster's stated lengths do not close.
     pub fn new(linkage: &Linkage, dec: &Decomposition) -> Option<Self> {
-        Some(Certifier {
-            f64_balls: Construction::new(linkage, dec).ok()?,
-            dd_balls: Construction::new(linkage, dec).ok()?,
-            f64_plain: Construction::new(linkage, dec).ok()?,
-            dd_plain: Construction::new(linkage, dec).ok()?,
-            dd_jets: Construction::new(linkage, dec).ok()?,
+        let f64_balls: Construction<Ball<f64>> = Construction::new(linkage, dec).ok()?;
+        let f64_plain = Construction::new(linkage, dec).ok()?;
+        let mut cert = Certifier {
+            f64_balls,
+            f64_plain,
+            dd: OnceCell::new(),
+            linkage: linkage.clone(),
+            dec: dec.clone(),
+            kinds: Vec::new(),
+            brackets: RefCell::new(HashMap::new()),
             estimated: Cell::new(0),
-        })
+        };
+        // Unequal sides proven in f64 balls are unequal in double-double
+        // balls too (a narrower enclosure of the same number); only sides
+        // f64 cannot separate need the double-double construction.
+        let kinds = (0..dec.steps.len())
+            .map(|k| {
+                let s = &cert.f64_balls.steps[k];
+                let unequal = (s.r1 - s.r2).sign().is_some() || {
+                    let s = &cert.dd_constructions()?.balls.steps[k];
+                    (s.r1 - s.r2).sign().is_some()
+                };
+                Some(if unequal { &[Kind::Stretched, Kind::Folded][..] } else { &[Kind::Stretched][..] })
+            })
+            .collect::<Option<Vec<_>>>()?;
+        cert.kinds = kinds;
+        Some(cert)
+    }
+
+    /// The double-double constructions (built on first use; `None` when a
+    /// cluster's stated lengths do not close in double-double).
+    fn dd_constructions(&self) -> Option<&DdConstructions> {
+        if self.dd.get().is_none() {
+            let built = DdConstructions {
+                balls: Construction::new(&self.linkage, &self.dec).ok()?,
+                plain: Construction::new(&self.linkage, &self.dec).ok()?,
+                jets: Construction::new(&self.linkage, &self.dec).ok()?,
+            };
+            let _ = self.dd.set(built);
+        }
+        self.dd.get()
     }
 
     /// The ways step k can stop closing. With equal sides (r1 = r2, proven
@@ -110,8 +163,7 @@ impl Certifier {
     /// negative, and d = 0 is a degenerate step (its base joints coincide,
     /// as in a rhombus), not an interval end.
     pub fn kinds(&self, k: usize) -> &'static [Kind] {
-        let s = &self.dd_balls.steps[k];
-        if (s.r1 - s.r2).sign().is_none() { &[Kind::Stretched] } else { &[Kind::Stretched, Kind::Folded] }
+        self.kinds[k]
     }
 
     /// Whether cluster `c`'s joints lie on one line: `Some(true)` for two
@@ -147,7 +199,8 @@ impl Certifier {
             let (sa, sb) = (&con.steps[a.step], &con.steps[b.step]);
             (a.kind.target(sa.r1, sa.r2) - b.kind.target(sb.r1, sb.r2)).sign()
         }
-        Sign::of(diff(&self.f64_balls, a, b).or_else(|| diff(&self.dd_balls, a, b))).unwrap_or(Sign::Zero)
+        let fine = || self.dd_constructions().and_then(|dd| diff(&dd.balls, a, b));
+        Sign::of(diff(&self.f64_balls, a, b).or_else(fine)).unwrap_or(Sign::Zero)
     }
 
     /// The proven sign of step `k`'s slack for `kind` at `at`, for the type
@@ -171,7 +224,12 @@ impl Certifier {
         let shrink = Dd::UNIT_ROUNDOFF / f64::UNIT_ROUNDOFF * tolerance::DD_BALL_SHRINK_MARGIN;
         let hopeless = |v: &Value| v.radius.zip(v.midpoint).is_some_and(|(r, m)| r * shrink > m.abs());
         let balls = !fast.iter().filter(|v| v.proven.is_none()).all(hopeless);
-        let fine = self.evaluate(&self.dd_balls, &self.dd_plain, bits, at, refined, upto, questions, balls);
+        // A sketch whose shapes close in f64 but not in double-double (a
+        // triangle at the feasibility tolerance): nothing more to prove with.
+        let Some(dd) = self.dd_constructions() else {
+            return fast.iter().map(|f| f.proven.unwrap_or(Sign::Zero)).collect();
+        };
+        let fine = self.evaluate(&dd.balls, &dd.plain, bits, at, refined, upto, questions, balls);
         fast.iter().zip(&fine).map(|(f, d)| f.proven.or(d.proven).unwrap_or_else(|| self.estimate(f, d))).collect()
     }
 
@@ -234,7 +292,12 @@ impl Certifier {
         let bracket = if balls { self.bracket(con, bits, at, lambda) } else { None };
         let flat: Vec<usize> = at.events.iter().map(|e| e.step).filter(|&s| s < upto).collect();
         let enclosures = bracket.map(|l| con.base_distances_flat(l, bits, upto, &flat)).unwrap_or_default();
-        let values = plain.base_distances_flat(T::from_dd(lambda), bits, upto, &flat);
+        // The plain values are only needed where a ball proves nothing.
+        let all_proven = questions.iter().all(|&(k, kind)| {
+            enclosures.get(k).is_some_and(|&d| kind.slack_value(con.steps[k].r1, con.steps[k].r2, d).sign().is_some())
+        });
+        let values =
+            if all_proven { Vec::new() } else { plain.base_distances_flat(T::from_dd(lambda), bits, upto, &flat) };
         questions
             .iter()
             .map(|&(k, kind)| {
@@ -257,7 +320,32 @@ impl Certifier {
     /// the smallest tried bracket whose ends have proven opposite signs of
     /// that step's slack; inside an interval, λ itself (exact).
     fn bracket<T: Real>(&self, con: &Construction<Ball<T>>, bits: &[bool], at: At, lambda: Dd) -> Option<Ball<T>> {
-        let Some(event) = at.events.first() else { return Some(Ball::exact(T::from_dd(lambda))) };
+        let Some(&event) = at.events.first() else { return Some(Ball::exact(T::from_dd(lambda))) };
+        // The search depends only on the bits before the flat step: cache it
+        // (every later step asks about the same end).
+        let key = (event.step <= 128).then(|| {
+            let prefix = bits[..event.step].iter().enumerate().fold(0u128, |a, (i, &b)| a | (u128::from(b) << i));
+            let dd = T::UNIT_ROUNDOFF < f64::UNIT_ROUNDOFF;
+            ([lambda.hi.to_bits(), lambda.lo.to_bits()], event, prefix, dd)
+        });
+        if let Some(radius) = key.as_ref().and_then(|k| self.brackets.borrow().get(k).copied()) {
+            return radius.map(|r| Ball { m: T::from_dd(lambda), r });
+        }
+        let found = self.search_bracket(con, bits, event, lambda);
+        if let Some(k) = key {
+            self.brackets.borrow_mut().insert(k, found.map(|b| b.r));
+        }
+        found
+    }
+
+    /// The bracket search of [`Self::bracket`] for an end where `event` is flat.
+    fn search_bracket<T: Real>(
+        &self,
+        con: &Construction<Ball<T>>,
+        bits: &[bool],
+        event: Event,
+        lambda: Dd,
+    ) -> Option<Ball<T>> {
         let s = &con.steps[event.step];
         let slack = |x: T| -> Option<i8> {
             let pos = con.realize_prefix(Ball::exact(x), bits, event.step).ok()?;
@@ -293,7 +381,8 @@ impl Certifier {
     /// slack from the f64 value (a few steps double the digits each).
     fn refine_dd(&self, bits: &[bool], at: At, lambda: Dd) -> Dd {
         let Some(event) = at.events.first() else { return lambda };
-        let con = &self.dd_jets;
+        let Some(dd) = self.dd_constructions() else { return lambda };
+        let con = &dd.jets;
         let s = &con.steps[event.step];
         let mut x = lambda;
         for _ in 0..tolerance::DD_NEWTON_STEPS {

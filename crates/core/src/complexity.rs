@@ -1,5 +1,7 @@
 //! Low Cayley complexity by the four-cycle test, and the complete Cayley
-//! vector (THEORY.md §3). O(n²) in the number of steps.
+//! vector (THEORY.md §3). About linear in the number of steps: the built
+//! clusters holding a joint are kept per joint, and a cluster's build
+//! position is stored, not searched.
 //!
 //! Determinism: when several valid pairs of built clusters carry a step, the
 //! pair built earliest is used (smallest index of its later-built cluster,
@@ -79,23 +81,25 @@ fn key(a: usize, b: usize) -> (usize, usize) {
 pub fn four_cycle_test(dec: &Decomposition) -> Complexity {
     let clusters = &dec.clusters;
     let mut valid: HashMap<(usize, usize), PairOrigin> = HashMap::new();
-    let mut built: Vec<usize> = Vec::new(); // in build order
+    // Build position of each cluster (first time built), and per joint the
+    // built clusters holding it, in build order.
+    let mut built_at: Vec<usize> = vec![usize::MAX; clusters.nodes.len()];
+    let mut n_built = 0usize;
+    let mut holding_joint: HashMap<usize, Vec<usize>> = HashMap::new();
     let mut ccv = vec![dec.base];
     let mut carriers = vec![None; dec.steps.len()];
     let mut failure = None;
-    let built_index = |built: &[usize], c: usize| built.iter().position(|&b| b == c).unwrap_or(usize::MAX);
+    let built_index = |built_at: &[usize], c: usize| built_at[c];
     for (k, step) in dec.steps.iter().enumerate() {
         if k > 0 && failure.is_none() {
-            let holding = |j: usize| -> Vec<usize> {
-                built.iter().copied().filter(|&c| clusters.nodes[c].joints.binary_search(&j).is_ok()).collect()
-            };
+            let holding = |j: usize| -> Vec<usize> { holding_joint.get(&j).cloned().unwrap_or_default() };
             let (us, ws) = (holding(step.u), holding(step.w));
             let mut best: Option<((usize, usize), Carrier)> = None;
             for &tu in &us {
                 for &tw in &ws {
                     let Some(&origin) = valid.get(&key(tu, tw)) else { continue };
                     let [x] = clusters.shared(tu, tw)[..] else { continue };
-                    let (bu, bw) = (built_index(&built, tu), built_index(&built, tw));
+                    let (bu, bw) = (built_index(&built_at, tu), built_index(&built_at, tw));
                     let rank = (bu.max(bw), bu.min(bw));
                     if best.as_ref().is_none_or(|(r, _)| rank < *r) {
                         best = Some((rank, Carrier { tu, tw, x, origin }));
@@ -136,8 +140,15 @@ pub fn four_cycle_test(dec: &Decomposition) -> Complexity {
             ccv.push([fallback_partner(dec, k), step.vertex]);
         }
         valid.entry(key(step.cluster_u, step.cluster_w)).or_insert(PairOrigin::Step(k));
-        built.push(step.cluster_u);
-        built.push(step.cluster_w);
+        for c in [step.cluster_u, step.cluster_w] {
+            if built_at[c] == usize::MAX {
+                built_at[c] = n_built;
+                for &j in &clusters.nodes[c].joints {
+                    holding_joint.entry(j).or_default().push(c);
+                }
+            }
+            n_built += 1;
+        }
     }
     Complexity { low: failure.is_none(), ccv, carriers, failure }
 }
@@ -146,11 +157,11 @@ pub fn four_cycle_test(dec: &Decomposition) -> Complexity {
 /// that its distance to the vertex still tells the step's two orientations apart.
 fn fallback_partner(dec: &Decomposition, k: usize) -> usize {
     let step = &dec.steps[k];
-    let mut built_joints = vec![dec.base[0], dec.base[1]];
-    for s in &dec.steps[..k] {
-        built_joints.extend_from_slice(&dec.clusters.nodes[s.cluster_u].joints);
-        built_joints.extend_from_slice(&dec.clusters.nodes[s.cluster_w].joints);
-    }
+    let cluster = |c: usize| dec.clusters.nodes[c].joints.iter().copied();
+    let built_joints = dec
+        .base
+        .into_iter()
+        .chain(dec.steps[..k].iter().flat_map(|s| cluster(s.cluster_u).chain(cluster(s.cluster_w))));
     built_joints.into_iter().find(|&j| j != step.u && j != step.w).unwrap_or(dec.base[0])
 }
 

@@ -234,6 +234,7 @@ pub fn rigidity(linkage: &Linkage) -> Rigidity {
     let mut out: Vec<Vec<usize>> = vec![Vec::new(); n];
     let mut independent = 0usize;
     let mut redundant = Vec::new();
+    let mut search = PebbleSearch::new(n);
     let within = bars_within_bodies(linkage);
     let is = |c: &Constraint, agrees: bool| within.iter().any(|b| *c == Constraint::Bar(b.bar) && b.agrees == agrees);
     let edges = linkage.constraint_edges();
@@ -244,8 +245,8 @@ pub fn rigidity(linkage: &Linkage) -> Rigidity {
             if pebbles[u] + pebbles[v] >= 4 {
                 break true;
             }
-            let found = (pebbles[u] < 2 && fetch_pebble(u, v, &mut pebbles, &mut out))
-                || (pebbles[v] < 2 && fetch_pebble(v, u, &mut pebbles, &mut out));
+            let found = (pebbles[u] < 2 && search.fetch(u, v, &mut pebbles, &mut out))
+                || (pebbles[v] < 2 && search.fetch(v, u, &mut pebbles, &mut out));
             if !found {
                 break false;
             }
@@ -261,39 +262,57 @@ pub fn rigidity(linkage: &Linkage) -> Rigidity {
     Rigidity { dof: (2 * n).saturating_sub(3 + independent), redundant }
 }
 
-/// Move a free pebble to `start` by reversing a directed path, never taking one
-/// from `start` or `keep`. Returns whether a pebble was found.
-fn fetch_pebble(start: usize, keep: usize, pebbles: &mut [u8], out: &mut [Vec<usize>]) -> bool {
-    let n = pebbles.len();
-    let mut parent = vec![usize::MAX; n];
-    let mut seen = vec![false; n];
-    seen[start] = true;
-    seen[keep] = true;
-    let mut stack = vec![start];
-    while let Some(x) = stack.pop() {
-        for &y in &out[x] {
-            if seen[y] {
-                continue;
-            }
-            seen[y] = true;
-            parent[y] = x;
-            if pebbles[y] > 0 {
-                pebbles[y] -= 1;
-                pebbles[start] += 1;
-                let mut child = y;
-                while child != start {
-                    let p = parent[child];
-                    let pos = out[p].iter().position(|&t| t == child).expect("path edge exists");
-                    out[p].swap_remove(pos);
-                    out[child].push(p);
-                    child = p;
-                }
-                return true;
-            }
-            stack.push(y);
-        }
+/// The depth-first search of the pebble game, with its buffers kept
+/// between searches (a search visits few joints; clearing n of them each
+/// time made the game quadratic).
+struct PebbleSearch {
+    parent: Vec<usize>,
+    /// `seen[j] == round`: visited in the current search.
+    seen: Vec<u32>,
+    round: u32,
+    stack: Vec<usize>,
+}
+
+impl PebbleSearch {
+    fn new(n: usize) -> Self {
+        PebbleSearch { parent: vec![usize::MAX; n], seen: vec![0; n], round: 0, stack: Vec::new() }
     }
-    false
+
+    /// Move a free pebble to `start` by reversing a directed path, never taking one
+    /// from `start` or `keep`. Returns whether a pebble was found.
+    fn fetch(&mut self, start: usize, keep: usize, pebbles: &mut [u8], out: &mut [Vec<usize>]) -> bool {
+        self.round += 1;
+        let round = self.round;
+        let (parent, seen, stack) = (&mut self.parent, &mut self.seen, &mut self.stack);
+        seen[start] = round;
+        seen[keep] = round;
+        stack.clear();
+        stack.push(start);
+        while let Some(x) = stack.pop() {
+            for &y in &out[x] {
+                if seen[y] == round {
+                    continue;
+                }
+                seen[y] = round;
+                parent[y] = x;
+                if pebbles[y] > 0 {
+                    pebbles[y] -= 1;
+                    pebbles[start] += 1;
+                    let mut child = y;
+                    while child != start {
+                        let p = parent[child];
+                        let pos = out[p].iter().position(|&t| t == child).expect("path edge exists");
+                        out[p].swap_remove(pos);
+                        out[child].push(p);
+                        child = p;
+                    }
+                    return true;
+                }
+                stack.push(y);
+            }
+        }
+        false
+    }
 }
 
 /// One construction step `vertex ◁ (u, w)`: the clusters `cluster_u ∋ u` and
@@ -321,8 +340,6 @@ pub struct Decomposition {
     pub base: [usize; 2],
     /// The construction steps, in order.
     pub steps: Vec<Step>,
-    /// Other valid base non-edges (up to [`MAX_OTHER_BASES`]).
-    pub other_bases: Vec<[usize; 2]>,
     /// Whether the base was chosen automatically.
     pub base_chosen: bool,
 }
@@ -524,37 +541,28 @@ pub fn base_candidates(clusters: &ClusterSet, linkage: &Linkage) -> Vec<[usize; 
 }
 
 /// Recognise the class and build the construction from the requested base,
-/// or from the preferred valid base.
+/// or from the preferred valid base. Other valid bases are listed only when
+/// asked for ([`Decomposition::other_bases`]) or when the requested one is not valid.
 pub fn decompose(
     linkage: &Linkage,
     requested: Option<[usize; 2]>,
 ) -> Result<Result<Decomposition, BaseError>, Outside> {
     let clusters = classify(linkage)?;
     let n = linkage.n_joints();
-    let candidates = base_candidates(&clusters, linkage);
-    let mut valid: Vec<([usize; 2], Vec<Step>)> = Vec::new();
-    // Listing other bases is a courtesy; cap the work on very large scenes.
-    for &f in candidates.iter().take(4096) {
-        if let Some(steps) = steps_from_base(&clusters, n, f) {
-            valid.push((f, steps));
-            if valid.len() > MAX_OTHER_BASES {
-                break;
-            }
-        }
-    }
-    if valid.is_empty() {
-        return Err(Outside::NotTreeDecomposable);
-    }
     let (base, steps, base_chosen) = match requested {
         Some(f) => match steps_from_base(&clusters, n, f) {
             Some(steps) => (f, steps, false),
             None => {
+                let valid = valid_bases(&clusters, linkage, MAX_OTHER_BASES + 1);
+                if valid.is_empty() {
+                    return Err(Outside::NotTreeDecomposable);
+                }
                 let why = if clusters.containing(f[0]).any(|c| clusters.contains(c, f[1])) {
                     "its joints are already held rigidly together"
                 } else {
                     "adding it as a bar does not make the linkage buildable by ruler and compass"
                 };
-                let list: Vec<String> = valid.iter().map(|(g, _)| linkage.pair_name(*g)).collect();
+                let list: Vec<String> = valid.iter().map(|g| linkage.pair_name(*g)).collect();
                 return Ok(Err(BaseError {
                     base: f,
                     message: format!(
@@ -565,9 +573,44 @@ pub fn decompose(
                 }));
             }
         },
-        None => (valid[0].0, valid[0].1.clone(), true),
+        None => {
+            let candidates = base_candidates(&clusters, linkage);
+            let first = candidates
+                .iter()
+                .take(MAX_BASE_CANDIDATES)
+                .find_map(|&f| steps_from_base(&clusters, n, f).map(|steps| (f, steps)));
+            let Some((f, steps)) = first else { return Err(Outside::NotTreeDecomposable) };
+            (f, steps, true)
+        }
     };
-    let same = |g: &[usize; 2]| (g[0] == base[0] && g[1] == base[1]) || (g[0] == base[1] && g[1] == base[0]);
-    let other_bases = valid.iter().map(|(g, _)| *g).filter(|g| !same(g)).take(MAX_OTHER_BASES).collect();
-    Ok(Ok(Decomposition { clusters, base, steps, other_bases, base_chosen }))
+    Ok(Ok(Decomposition { clusters, base, steps, base_chosen }))
+}
+
+/// Base candidates tried at most when listing valid bases (listing them is
+/// a courtesy; this caps the work on very large scenes).
+const MAX_BASE_CANDIDATES: usize = 4096;
+
+/// Up to `limit` valid bases, in order of preference ([`base_candidates`]).
+fn valid_bases(clusters: &ClusterSet, linkage: &Linkage, limit: usize) -> Vec<[usize; 2]> {
+    let n = linkage.n_joints();
+    base_candidates(clusters, linkage)
+        .into_iter()
+        .take(MAX_BASE_CANDIDATES)
+        .filter(|&f| steps_from_base(clusters, n, f).is_some())
+        .take(limit)
+        .collect()
+}
+
+impl Decomposition {
+    /// Other valid base non-edges (up to [`MAX_OTHER_BASES`]), found on
+    /// request: each costs a construction from that base.
+    pub fn other_bases(&self, linkage: &Linkage) -> Vec<[usize; 2]> {
+        let base = self.base;
+        let same = |g: &[usize; 2]| (g[0] == base[0] && g[1] == base[1]) || (g[0] == base[1] && g[1] == base[0]);
+        valid_bases(&self.clusters, linkage, MAX_OTHER_BASES + 1)
+            .into_iter()
+            .filter(|g| !same(g))
+            .take(MAX_OTHER_BASES)
+            .collect()
+    }
 }

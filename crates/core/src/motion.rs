@@ -72,32 +72,51 @@ fn end(i: &OrientedInterval<f64>, side: Side) -> &crate::roots::Endpoint<f64> {
     }
 }
 
+/// A realization type as a hash key: packed into an integer up to 128 steps
+/// (no allocation, cheap to hash), the bits themselves beyond.
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+enum TypeKey {
+    Packed(u128),
+    Bits(Vec<bool>),
+}
+
+impl TypeKey {
+    /// The key of `ty`, with bit `flip` flipped.
+    fn of(ty: &RealizationType, flip: Option<usize>) -> TypeKey {
+        let bits = &ty.0;
+        if bits.len() <= 128 {
+            let packed = bits.iter().enumerate().fold(0u128, |a, (k, &b)| a | (u128::from(b) << k));
+            TypeKey::Packed(flip.map_or(packed, |k| packed ^ (1 << k)))
+        } else {
+            TypeKey::Bits(flip.map_or_else(|| bits.clone(), |k| ty.flipped(k).0))
+        }
+    }
+}
+
 /// Link intervals by the flip rule: at an end where step k is flat the motion
 /// continues, on the same side of λ, into the type with bit k flipped that
 /// ends at the same root. Every interval lands in exactly one component.
 pub fn components(space: &CayleySpace<f64>) -> Components {
     let ivs = &space.intervals;
-    let mut by_end: HashMap<(usize, Side, &RealizationType), Vec<usize>> = HashMap::new();
+    let mut by_end: HashMap<(usize, Side, TypeKey), Vec<usize>> = HashMap::with_capacity(2 * ivs.len());
     for (i, iv) in ivs.iter().enumerate() {
         for side in [Side::Lower, Side::Upper] {
-            by_end.entry((end(iv, side).id, side, &iv.ty)).or_default().push(i);
+            by_end.entry((end(iv, side).id, side, TypeKey::of(&iv.ty, None))).or_default().push(i);
         }
     }
     // Intervals reachable from end `side` of interval `i`: flip each flat
     // step's bit (or, failing that, any set of them).
     let partners = |i: usize, side: Side| -> Vec<usize> {
         let e = end(&ivs[i], side);
-        let steps: Vec<usize> = e.events.iter().map(|ev| ev.step).collect();
-        let lookup = |mask: usize| -> Vec<usize> {
-            let ty = ivs[i].ty.flipped_by_mask(&steps, mask);
-            by_end.get(&(e.id, side, &ty)).cloned().unwrap_or_default()
+        let lookup = |step: usize| -> &[usize] {
+            by_end.get(&(e.id, side, TypeKey::of(&ivs[i].ty, Some(step)))).map_or(&[], |v| v.as_slice())
         };
         // Only single flips: where none continues, the end is a dead end
         // (e.g. a folded rhombus, where a later step degenerates and the
         // motion has an extra degree of freedom). Passing through by flipping
         // several bits would join components on some bases and not on
         // others; the realization space must not depend on the base.
-        (0..steps.len()).flat_map(|b| lookup(1 << b)).filter(|&j| j != i).collect()
+        e.events.iter().flat_map(|ev| lookup(ev.step)).copied().filter(|&j| j != i).collect()
     };
     let mut of_interval = vec![usize::MAX; ivs.len()];
     let mut list = Vec::new();
