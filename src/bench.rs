@@ -105,7 +105,7 @@ pub struct ScalingRow {
 /// The like-for-like figure of one scene: the full analysis (recognition →
 /// components, no self-check) against one f64 realization of the drawn type,
 /// both medians from the same run.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, schemars::JsonSchema)]
 pub struct AnalysisRow {
     pub scene: String,
     /// Recognition, four-cycle test, constructions, Cayley space (exact) and components.
@@ -247,7 +247,7 @@ pub fn full_analysis_phases(scene: &crate::scene::Scene, requested: Option<[usiz
     let Ok(Ok(dec)) = t.time("decompose", || crate::decompose::decompose(&linkage, requested)) else {
         return (0, t);
     };
-    let cx = t.time("four_cycle", || crate::complexity::four_cycle_test(&linkage, &dec));
+    let cx = t.time("four_cycle", || crate::complexity::four_cycle_test(&dec));
     let built = t.time("construction", || {
         let con = Construction::<f64>::new(&linkage, &dec).ok()?;
         let cert = crate::certify::Certifier::new(&linkage, &dec)?;

@@ -173,22 +173,25 @@ impl Certifier {
     /// (flat, but not provably: a non-generic place). Differences are taken
     /// in units of `scale`, so no product of two lengths over- or underflows.
     pub fn cluster_flat(&self, c: usize, scale: f64) -> Option<bool> {
-        let shape = &self.dd_balls.shapes[c];
-        if shape.len() <= 2 {
+        /// The proven sign of each joint's cross product with the first edge.
+        fn crosses<T: Real>(shape: &[(usize, [Ball<T>; 2])], scale: f64) -> impl Iterator<Item = Option<i8>> + '_ {
+            let unit = Ball::exact(T::from_f64(scale));
+            let (p, q) = (shape[0].1, shape[1].1);
+            let (ux, uy) = ((q[0] - p[0]) / unit, (q[1] - p[1]) / unit);
+            shape[2..].iter().map(move |&(_, r)| {
+                let (vx, vy) = ((r[0] - p[0]) / unit, (r[1] - p[1]) / unit);
+                (ux * vy - uy * vx).sign()
+            })
+        }
+        if self.f64_balls.shapes[c].len() <= 2 {
             return Some(true);
         }
-        let unit = Ball::exact(Dd::from_f64(scale));
-        let (p, q) = (shape[0].1, shape[1].1);
-        let (ux, uy) = ((q[0] - p[0]) / unit, (q[1] - p[1]) / unit);
-        let mut proven_flat = true;
-        for &(_, r) in &shape[2..] {
-            let (vx, vy) = ((r[0] - p[0]) / unit, (r[1] - p[1]) / unit);
-            match (ux * vy - uy * vx).sign() {
-                Some(_) => return Some(false),
-                None => proven_flat = false,
-            }
+        // f64 balls first (they prove most shapes bent), then double-double.
+        if crosses(&self.f64_balls.shapes[c], scale).any(|s| s.is_some()) {
+            return Some(false);
         }
-        proven_flat.then_some(true)
+        let dd = self.dd_constructions()?;
+        if crosses(&dd.balls.shapes[c], scale).any(|s| s.is_some()) { Some(false) } else { None }
     }
 
     /// Whether two steps are flat at the same base length: the proven sign
