@@ -148,18 +148,62 @@ pub fn bisect<T: Real>(mut a: T, mut b: T, stop: T, f: impl Fn(T) -> Option<i8>)
 
 /// A root of g between a (g > 0) and b (g ≤ 0, or undefined): Newton steps
 /// from g's value and derivative (`f` gives both, in λ) while they stay
-/// inside the shrinking bracket, bisection otherwise; to full precision
-/// (a step within [`tolerance::NEWTON_CONVERGED_ULPS`] of x). The point of least
-/// |g| seen when the iterations run out.
+/// inside the shrinking bracket, bisection otherwise; to full precision.
+/// The point of least |g| seen when the iterations run out.
 pub fn newton<T: Real>(a: T, b: T, f: impl Fn(T) -> Option<(T, T)>) -> T {
+    newton_seeded(a, b, None, f).root
+}
+
+/// What [`newton_seeded`] found and what it cost.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct NewtonRun<T> {
+    /// The root (or the point of least |g| seen).
+    pub root: T,
+    /// Calls of `f`.
+    pub evaluations: usize,
+}
+
+/// [`newton`] with a known evaluation `seed` = (x, g(x), g′(x)) inside or at
+/// an end of the bracket (typically its far end, already evaluated as a
+/// sample or a root of another step): the first step is taken from it at no
+/// cost instead of from the midpoint.
+///
+/// Stops when a step is rounding noise: within
+/// [`tolerance::NEWTON_CONVERGED_ULPS`] of x, or — at the rounding floor,
+/// where g's value is its rounding error and Newton steps stop shrinking —
+/// when a Newton step is no shorter than the one before and both are below
+/// [`tolerance::NEWTON_FLOOR`] of the bracket's magnitude. At the floor every
+/// point is as good a root as f64 resolves: the one of least |g| is returned.
+pub fn newton_seeded<T: Real>(
+    a: T,
+    b: T,
+    seed: Option<(T, T, T)>,
+    f: impl Fn(T) -> Option<(T, T)>,
+) -> NewtonRun<T> {
     let (mut pos, mut neg) = (a, b);
     let two = T::from_f64(2.0);
     let mut x = (a + b) / two;
     let mut best = (x, T::from_f64(f64::INFINITY));
+    let mut evaluations = 0;
+    let converged = T::from_f64(tolerance::NEWTON_CONVERGED_ULPS * T::UNIT_ROUNDOFF);
+    let floor = T::from_f64(tolerance::NEWTON_FLOOR) * (if a.abs() > b.abs() { a.abs() } else { b.abs() });
+    let mut last_step: Option<T> = None;
+    let mut known = seed.filter(|&(s, _, _)| s == a || s == b || between(s, a, b));
     for _ in 0..tolerance::ROOT_MAX_ITERATIONS {
-        let Some((g, dg)) = f(x) else {
+        let evaluated = match known.take() {
+            Some((s, g, dg)) => {
+                x = s;
+                Some((g, dg))
+            }
+            None => {
+                evaluations += 1;
+                f(x)
+            }
+        };
+        let Some((g, dg)) = evaluated else {
             neg = x;
             x = (pos + neg) / two;
+            last_step = None;
             if !between(x, pos, neg) {
                 break;
             }
@@ -169,7 +213,7 @@ pub fn newton<T: Real>(a: T, b: T, f: impl Fn(T) -> Option<(T, T)>) -> T {
             best = (x, g.abs());
         }
         if g == T::zero() {
-            return x;
+            return NewtonRun { root: x, evaluations };
         }
         if g > T::zero() {
             pos = x;
@@ -178,12 +222,17 @@ pub fn newton<T: Real>(a: T, b: T, f: impl Fn(T) -> Option<(T, T)>) -> T {
         }
         let step = g / dg;
         let next = x - step;
+        if last_step.is_some_and(|l: T| !(step.abs() < l) && l <= floor) {
+            return NewtonRun { root: best.0, evaluations };
+        }
         if between(next, pos, neg) && step.to_f64().is_finite() {
-            if step.abs() <= T::from_f64(tolerance::NEWTON_CONVERGED_ULPS * T::UNIT_ROUNDOFF) * x.abs() {
-                return next;
+            if step.abs() <= converged * x.abs() {
+                return NewtonRun { root: next, evaluations };
             }
+            last_step = Some(step.abs());
             x = next;
         } else {
+            last_step = None;
             let mid = (pos + neg) / two;
             if !between(mid, pos, neg) {
                 break;
@@ -191,5 +240,5 @@ pub fn newton<T: Real>(a: T, b: T, f: impl Fn(T) -> Option<(T, T)>) -> T {
             x = mid;
         }
     }
-    best.0
+    NewtonRun { root: best.0, evaluations }
 }

@@ -132,6 +132,13 @@ pub const ROOT_MAX_ITERATIONS: usize = 200;
 /// and the double-double re-location of an end in `certify`).
 pub const NEWTON_CONVERGED_ULPS: f64 = 4.0;
 
+/// Newton has reached the rounding floor when a step is no shorter than the
+/// one before and both are below this fraction of the bracket's magnitude:
+/// quadratic convergence shrinks every step far more until rounding noise
+/// (which on deep chains is many ulps) decides the steps. Precision, not
+/// structure: the end's flat steps are proven afterwards (`certify`).
+pub const NEWTON_FLOOR: f64 = 1e-9;
+
 /// The numeric root search splits a gap at an inflection (or halves it) at
 /// most this many times: below 2^-40 of a gap the sample spacing holds no
 /// more structure than f64 resolves. A bound on work.
