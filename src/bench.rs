@@ -114,13 +114,11 @@ pub fn scaling_row(family: &str, scene: crate::scene::Scene, repeat: usize) -> O
     let walk = || component_through_counted(&con, &cert, &jet, &drawn.ty, drawn.lambda, LazyOptions::default());
     let (lazy_us, walked) = median_us(repeat, walk);
     let (space, counts) = walked.ok()?;
-    let checked = (dec.steps.len() <= crate::analysis::LAZY_REFERENCE_MAX_STEPS).then(|| {
-        median_us(repeat, || crate::analysis::lazy_reference_accuracy(&linkage, &dec, &mut space.clone()))
-    });
+    let checked = (dec.steps.len() <= crate::analysis::LAZY_REFERENCE_MAX_STEPS)
+        .then(|| median_us(repeat, || crate::analysis::lazy_reference_accuracy(&linkage, &dec, &mut space.clone())));
     let self_check_ms = checked.as_ref().map(|(us, _)| us / 1e3);
-    let max_endpoint_error = checked
-        .and_then(|(_, a)| a)
-        .map(|a| if a.same_structure { a.max_relative_error } else { f64::INFINITY });
+    let max_endpoint_error =
+        checked.and_then(|(_, a)| a).map(|a| if a.same_structure { a.max_relative_error } else { f64::INFINITY });
     let n = dec.steps.len();
     Some(ScalingRow {
         family: family.to_string(),
@@ -235,9 +233,8 @@ pub fn bench_scene(a: &Analysis, s: &Solved, repeat: usize) -> (Vec<MethodRow>, 
             component_through(con, &s.certifier, &jet, &s.drawn.ty, s.drawn.lambda, LazyOptions::default())
         });
         let n = walked.as_ref().map_or(0, |w| w.intervals.len());
-        let accuracy = walked.ok().and_then(|mut w| {
-            crate::analysis::lazy_reference_accuracy(&a.linkage, &s.dec, &mut w)
-        });
+        let accuracy =
+            walked.ok().and_then(|mut w| crate::analysis::lazy_reference_accuracy(&a.linkage, &s.dec, &mut w));
         let row = MethodRow {
             scene: name,
             method: "lazy walk (drawn component only)".into(),

@@ -9,6 +9,7 @@ mod closest;
 mod graph;
 mod lazy;
 mod motion;
+mod perf;
 mod recognition;
 mod scene_parse;
 mod trust;

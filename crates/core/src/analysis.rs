@@ -282,7 +282,7 @@ fn refine_end(
     point: bool,
     scale: f64,
 ) -> Option<Dd> {
-    use crate::tolerance::{DD_NEWTON_MAX_STEP, DD_NEWTON_STEPS, NEWTON_CONVERGED_ULPS};
+    use crate::tolerance::{DD_NEWTON_MAX_STEP, DD_NEWTON_STEPS, DD_REFINED, NEWTON_CONVERGED_ULPS};
     let s = &jet.steps[event.step];
     let start = Dd::new(lambda);
     let mut x = start;
@@ -303,12 +303,15 @@ fn refine_end(
             return None;
         }
         let size = step.to_f64().abs();
-        if size <= NEWTON_CONVERGED_ULPS * Dd::UNIT_ROUNDOFF * x.to_f64().abs() {
-            return Some(x);
-        }
-        // Past f64's resolution a step that stops shrinking is double-double
-        // rounding noise (deep chains amplify it): x is as good as it gets.
-        if last.is_some_and(|l| size >= l && l <= f64::EPSILON * x.to_f64().abs()) {
+        // Converged: to double-double resolution, or (deep chains amplify
+        // double-double rounding) far below f64's, where the rest of the
+        // error cannot change x's rounding to f64 or its distance from it;
+        // or a step past f64's resolution that stops shrinking (noise).
+        let magnitude = x.to_f64().abs();
+        if size <= NEWTON_CONVERGED_ULPS * Dd::UNIT_ROUNDOFF * magnitude
+            || size <= DD_REFINED * f64::UNIT_ROUNDOFF * magnitude
+            || last.is_some_and(|l| size >= l && l <= f64::UNIT_ROUNDOFF * magnitude)
+        {
             return Some(x);
         }
         last = Some(size);
@@ -482,9 +485,7 @@ pub fn analyse_with(scene: Scene, base_override: Option<[usize; 2]>, scope: Scop
     };
     let accuracy = if lazy {
         (dec.steps.len() <= LAZY_REFERENCE_MAX_STEPS && !space.intervals.is_empty())
-            .then(|| {
-                timings.time("reference", || lazy_reference_accuracy(&linkage, &dec, &mut space))
-            })
+            .then(|| timings.time("reference", || lazy_reference_accuracy(&linkage, &dec, &mut space)))
             .flatten()
     } else if space.intervals.len() <= REFERENCE_MAX_TYPES {
         timings.time("reference", || reference_accuracy(&linkage, &dec, &complexity, &certifier, &mut space))

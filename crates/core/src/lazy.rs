@@ -175,6 +175,8 @@ struct Walker<'a, T: Real> {
     root_value: T,
     ids: EndpointIds,
     notes: Vec<Note>,
+    /// [`Certifier::kinds`] of each step, asked once (each gap asks them all).
+    kinds: Vec<&'static [Kind]>,
     /// Counted for [`WalkCounts`].
     steps_realized: Cell<usize>,
     roots: Cell<usize>,
@@ -224,6 +226,7 @@ impl<'a, T: Real> Walker<'a, T> {
             root_value: T::from_f64(tolerance::ROOT_VALUE) * scale,
             ids: EndpointIds::default(),
             notes: Vec::new(),
+            kinds: (0..con.steps.len()).map(|k| cert.kinds(k)).collect(),
             steps_realized: Cell::new(0),
             roots: Cell::new(0),
             newton_evaluations: Cell::new(0),
@@ -253,7 +256,7 @@ impl<'a, T: Real> Walker<'a, T> {
     /// folded slack is d ≥ 0 itself: it never goes negative, and d = 0 is a
     /// degenerate step (its base joints coincide), not an end.
     fn kinds(&self, k: usize) -> &'static [Kind] {
-        self.cert.kinds(k)
+        self.kinds[k]
     }
 
     /// Step k's slack at λ alone (realizing only the steps before it).

@@ -173,13 +173,10 @@ pub struct NewtonRun<T> {
 /// where g's value is its rounding error and Newton steps stop shrinking —
 /// when a Newton step is no shorter than the one before and both are below
 /// [`tolerance::NEWTON_FLOOR`] of the bracket's magnitude. At the floor every
-/// point is as good a root as f64 resolves: the one of least |g| is returned.
-pub fn newton_seeded<T: Real>(
-    a: T,
-    b: T,
-    seed: Option<(T, T, T)>,
-    f: impl Fn(T) -> Option<(T, T)>,
-) -> NewtonRun<T> {
+/// point is as good a root as f64 resolves: the secant root between the
+/// bracket's evaluated ends (the one of least |g| if either is not evaluated)
+/// is returned.
+pub fn newton_seeded<T: Real>(a: T, b: T, seed: Option<(T, T, T)>, f: impl Fn(T) -> Option<(T, T)>) -> NewtonRun<T> {
     let (mut pos, mut neg) = (a, b);
     let two = T::from_f64(2.0);
     let mut x = (a + b) / two;
@@ -188,6 +185,8 @@ pub fn newton_seeded<T: Real>(
     let converged = T::from_f64(tolerance::NEWTON_CONVERGED_ULPS * T::UNIT_ROUNDOFF);
     let floor = T::from_f64(tolerance::NEWTON_FLOOR) * (if a.abs() > b.abs() { a.abs() } else { b.abs() });
     let mut last_step: Option<T> = None;
+    // g at the bracket's ends, once evaluated there.
+    let (mut g_pos, mut g_neg): (Option<T>, Option<T>) = (None, None);
     let mut known = seed.filter(|&(s, _, _)| s == a || s == b || between(s, a, b));
     for _ in 0..tolerance::ROOT_MAX_ITERATIONS {
         let evaluated = match known.take() {
@@ -217,13 +216,17 @@ pub fn newton_seeded<T: Real>(
         }
         if g > T::zero() {
             pos = x;
+            g_pos = Some(g);
         } else {
             neg = x;
+            g_neg = Some(g);
         }
         let step = g / dg;
         let next = x - step;
         if last_step.is_some_and(|l: T| !(step.abs() < l) && l <= floor) {
-            return NewtonRun { root: best.0, evaluations };
+            let secant = g_pos.zip(g_neg).map(|(gp, gn)| pos - gp * (neg - pos) / (gn - gp));
+            let root = secant.filter(|&s| s == pos || s == neg || between(s, pos, neg)).unwrap_or(best.0);
+            return NewtonRun { root, evaluations };
         }
         if between(next, pos, neg) && step.to_f64().is_finite() {
             if step.abs() <= converged * x.abs() {
@@ -241,4 +244,46 @@ pub fn newton_seeded<T: Real>(
         }
     }
     NewtonRun { root: best.0, evaluations }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// g(x) = 2 − x² on [1, 2]: positive at 1, negative at 2, root √2.
+    fn g(x: f64) -> Option<(f64, f64)> {
+        Some((2.0 - x * x, -2.0 * x))
+    }
+
+    #[test]
+    fn newton_finds_the_root_and_counts_its_evaluations() {
+        let run = newton_seeded(1.0, 2.0, None, g);
+        assert!((run.root - 2f64.sqrt()).abs() <= 4.0 * f64::EPSILON);
+        // From the midpoint 1.5: quadratic convergence, a handful of steps.
+        assert!((3..=6).contains(&run.evaluations), "{run:?}");
+        assert_eq!(newton(1.0, 2.0, g), run.root);
+    }
+
+    #[test]
+    fn a_seed_at_a_known_root_costs_nothing() {
+        let r = 2f64.sqrt();
+        let (v, d) = g(r).unwrap();
+        let run = newton_seeded(1.0, 2.0, Some((r, 0.0, d)), g);
+        assert_eq!((run.root, run.evaluations), (r, 0));
+        // Seeded next to the root, far fewer evaluations than from the midpoint.
+        let near = r + 1e-9;
+        let (vn, dn) = g(near).unwrap();
+        let seeded = newton_seeded(1.0, near, Some((near, vn, dn)), g);
+        assert!((seeded.root - r).abs() <= 4.0 * f64::EPSILON && seeded.evaluations <= 2, "{seeded:?} {v}");
+    }
+
+    #[test]
+    fn newton_stops_at_the_rounding_floor() {
+        // A root whose value is only known to ~1e-12 (noise far above f64's
+        // ulp): Newton must stop once its steps stop shrinking, not chase it.
+        let noisy = |x: f64| Some((2.0 - x * x + 1e-12 * (x * 1e9).sin(), -2.0 * x));
+        let run = newton_seeded(1.0, 2.0, None, noisy);
+        assert!((run.root - 2f64.sqrt()).abs() <= 1e-11, "{run:?}");
+        assert!(run.evaluations <= 12, "{run:?}");
+    }
 }

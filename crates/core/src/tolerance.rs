@@ -193,6 +193,11 @@ pub const BALL_TOO_WIDE: f64 = 1e-8;
 /// (each doubles the correct digits: 6 go far beyond double-double's 32).
 pub const DD_NEWTON_STEPS: usize = 6;
 
+/// A double-double Newton step below this × f64's unit roundoff × |λ| has
+/// refined an f64 end: the error left (quadratically smaller than the
+/// step) changes neither its rounding to f64 nor the measured f64 error.
+pub const DD_REFINED: f64 = 1e-8;
+
 /// A double-double Newton step longer than this (× scale) is not a
 /// refinement of an end located in f64: the re-location stops there.
 pub const DD_NEWTON_MAX_STEP: f64 = 1e-6;
