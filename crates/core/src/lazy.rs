@@ -177,6 +177,9 @@ struct Walker<'a, T: Real> {
     notes: Vec<Note>,
     /// [`Certifier::kinds`] of each step, asked once (each gap asks them all).
     kinds: Vec<&'static [Kind]>,
+    /// The probe [`Self::scan_gap`] made at the root it returned last
+    /// (the approach to that root ends there: it is not realized twice).
+    root_probe: Option<Probe<T>>,
     /// Counted for [`WalkCounts`].
     steps_realized: Cell<usize>,
     roots: Cell<usize>,
@@ -227,6 +230,7 @@ impl<'a, T: Real> Walker<'a, T> {
             ids: EndpointIds::default(),
             notes: Vec::new(),
             kinds: (0..con.steps.len()).map(|k| cert.kinds(k)).collect(),
+            root_probe: None,
             steps_realized: Cell::new(0),
             roots: Cell::new(0),
             newton_evaluations: Cell::new(0),
@@ -456,6 +460,8 @@ impl<'a, T: Real> Walker<'a, T> {
                 Some((lambda, events)) => {
                     pending.clear();
                     made.clear();
+                    // The root's own probe waits at the bottom of the stack, for the last gap.
+                    made.extend(self.root_probe.take().filter(|p| p.lambda == lambda));
                     pending.push(lambda);
                     pending.extend(toward(lambda, near.lambda, approach));
                     approaching = Some((lambda, events));
@@ -586,7 +592,9 @@ impl<'a, T: Real> Walker<'a, T> {
                 }
             }
         }
-        shrunk.map(|p| (p.lambda, events))
+        let found = shrunk.as_ref().map(|p| (p.lambda, events));
+        self.root_probe = shrunk;
+        found
     }
 
     /// The first λ in (a, b] (walking in `dir`) where step k's slack for
