@@ -223,7 +223,9 @@ pub fn newton_seeded<T: Real>(a: T, b: T, seed: Option<(T, T, T)>, f: impl Fn(T)
         }
         let step = g / dg;
         let next = x - step;
-        if last_step.is_some_and(|l: T| !(step.abs() < l) && l <= floor) {
+        // A NaN step is no shorter either.
+        let shrinks = |l: T| step.abs().partial_cmp(&l) == Some(std::cmp::Ordering::Less);
+        if last_step.is_some_and(|l: T| !shrinks(l) && l <= floor) {
             let secant = g_pos.zip(g_neg).map(|(gp, gn)| pos - gp * (neg - pos) / (gn - gp));
             let root = secant.filter(|&s| s == pos || s == neg || between(s, pos, neg)).unwrap_or(best.0);
             return NewtonRun { root, evaluations };
