@@ -14,7 +14,7 @@ use serde::Serialize;
 use crate::analysis::{Analysis, Solved, Timings};
 use crate::cayley_space::{Method, cayley_space};
 use crate::invert::Inverter;
-use crate::lazy::{LazyOptions, component_through};
+use crate::lazy::{LazyOptions, component_through, component_through_counted};
 use crate::motion::{Stepper, component_segments, realization_at};
 use crate::real::{Jet, Real};
 use crate::realize::{Construction, RealizationType, bar_residual};
@@ -97,9 +97,16 @@ pub struct ScalingRow {
     pub lazy_ms: f64,
     /// lazy_ms per step and per interval, in µs: flat when the walk is linear.
     pub us_per_step_interval: f64,
-    /// Largest endpoint error against the same walk in double-double
+    /// Full-length realization equivalents the walk made per interval
+    /// (construction steps realized / (steps · intervals)), counted.
+    pub realizations_per_interval: f64,
+    /// Slack evaluations per root located by Newton, counted.
+    pub newton_evals_per_root: f64,
+    /// Largest endpoint error against the ends refined in double-double
     /// (relative; `None` above [`crate::analysis::LAZY_REFERENCE_MAX_STEPS`] steps).
     pub max_endpoint_error: Option<f64>,
+    /// The double-double self-check of the walk's ends (median, ms; `None` where skipped).
+    pub self_check_ms: Option<f64>,
 }
 
 /// The like-for-like figure of one scene: the full analysis (recognition →
@@ -158,13 +165,14 @@ pub fn scaling_row(family: &str, scene: crate::scene::Scene, repeat: usize) -> O
     let jet = con.convert::<Jet<f64>>();
     let cert = crate::certify::Certifier::new(&linkage, &dec)?;
     let drawn = crate::realize::drawn_realization(&linkage, &dec);
-    let walk = || component_through(&con, &cert, &jet, &drawn.ty, drawn.lambda, LazyOptions::default());
-    let (lazy_us, space) = median_us(repeat, walk);
-    let mut space = space.ok()?;
-    let max_endpoint_error = (dec.steps.len() <= crate::analysis::LAZY_REFERENCE_MAX_STEPS)
-        .then(|| crate::analysis::lazy_reference_accuracy(&linkage, &dec, &cert, &drawn, &mut space))
-        .flatten()
-        .map(|a| if a.same_structure { a.max_relative_error } else { f64::INFINITY });
+    let walk = || component_through_counted(&con, &cert, &jet, &drawn.ty, drawn.lambda, LazyOptions::default());
+    let (lazy_us, walked) = median_us(repeat, walk);
+    let (space, counts) = walked.ok()?;
+    let checked = (dec.steps.len() <= crate::analysis::LAZY_REFERENCE_MAX_STEPS)
+        .then(|| median_us(repeat, || crate::analysis::lazy_reference_accuracy(&linkage, &dec, &mut space.clone())));
+    let self_check_ms = checked.as_ref().map(|(us, _)| us / 1e3);
+    let max_endpoint_error =
+        checked.and_then(|(_, a)| a).map(|a| if a.same_structure { a.max_relative_error } else { f64::INFINITY });
     let n = dec.steps.len();
     Some(ScalingRow {
         family: family.to_string(),
@@ -174,7 +182,10 @@ pub fn scaling_row(family: &str, scene: crate::scene::Scene, repeat: usize) -> O
         decompose_ms: decompose_us / 1e3,
         lazy_ms: lazy_us / 1e3,
         us_per_step_interval: lazy_us / (n * space.intervals.len().max(1)) as f64,
+        realizations_per_interval: counts.realizations_per_interval(),
+        newton_evals_per_root: counts.newton_evals_per_root(),
         max_endpoint_error,
+        self_check_ms,
     })
 }
 
@@ -362,9 +373,8 @@ pub fn bench_scene(a: &Analysis, s: &Solved, repeat: usize) -> (Vec<MethodRow>, 
             component_through(con, &s.certifier, &jet, &s.drawn.ty, s.drawn.lambda, LazyOptions::default())
         });
         let n = walked.as_ref().map_or(0, |w| w.intervals.len());
-        let accuracy = walked.ok().and_then(|mut w| {
-            crate::analysis::lazy_reference_accuracy(&a.linkage, &s.dec, &s.certifier, &s.drawn, &mut w)
-        });
+        let accuracy =
+            walked.ok().and_then(|mut w| crate::analysis::lazy_reference_accuracy(&a.linkage, &s.dec, &mut w));
         let row = MethodRow {
             scene: name,
             method: BenchMethod::Lazy,
@@ -559,7 +569,7 @@ impl BenchReport {
         write_table(&mut o, &["scene", "step", "time µs", "samples", "jumps", "chord error", "bar residual"], &rows);
         if !self.scaling.is_empty() {
             o.push_str("\nLazy walk of the drawn component on generated families (median times)\n");
-            let rows: Vec<[String; 8]> = self
+            let rows: Vec<[String; 11]> = self
                 .scaling
                 .iter()
                 .map(|r| {
@@ -571,15 +581,27 @@ impl BenchReport {
                         fmt_num(r.decompose_ms),
                         fmt_num(r.lazy_ms),
                         fmt_num(r.us_per_step_interval),
+                        format!("{:.1}", r.realizations_per_interval),
+                        format!("{:.1}", r.newton_evals_per_root),
                         r.max_endpoint_error.map_or("-".into(), fmt_sci),
+                        r.self_check_ms.map_or("-".into(), fmt_num),
                     ]
                 })
                 .collect();
-            write_table(
-                &mut o,
-                &["family", "steps", "joints", "intervals", "decompose ms", "lazy ms", "µs/(step·interval)", "error"],
-                &rows,
-            );
+            let head = [
+                "family",
+                "steps",
+                "joints",
+                "intervals",
+                "decompose ms",
+                "lazy ms",
+                "µs/(step·interval)",
+                "realizations/interval",
+                "Newton evals/root",
+                "error",
+                "self-check ms",
+            ];
+            write_table(&mut o, &head, &rows);
         }
         o
     }

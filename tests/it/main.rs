@@ -10,6 +10,7 @@ mod contract;
 mod graph;
 mod lazy;
 mod motion;
+mod perf;
 mod recognition;
 mod scene_parse;
 mod trust;

@@ -199,18 +199,129 @@ pub fn reference_constructions(
     Some((Construction::new(linkage, dec).ok()?, Construction::new(linkage, dec).ok()?))
 }
 
-/// The lazy walk from the same start in double-double, compared with `space`.
+/// The lazy walk's f64 endpoints refined in double-double from the input as
+/// written, compared with `space` (and, when every end refines, replaced by
+/// the refined values rounded to f64).
+///
+/// Each end λ is a root of its first flat step k's slack g_k (THEORY.md §2):
+/// from the f64 value, Newton steps on g_k in double-double jets (realizing
+/// only steps 0..k) double the correct digits each, so one or two reach
+/// double-double resolution — the cost of a few realizations per end instead
+/// of a second walk. An isolated point (a tangency) is refined as the root
+/// of g_k′ instead. The structure is confirmed when every end converges
+/// within [`crate::tolerance::DD_NEWTON_MAX_STEP`] × scale of its f64 value
+/// and every interval keeps lower ≤ upper; an f64 end off its root by more
+/// (a missed or misplaced event) makes `same_structure` false. Ends with no
+/// flat step (a degenerate step's end) are not refined; `refined` says
+/// whether all were.
 pub fn lazy_reference_accuracy(
     linkage: &Linkage,
     dec: &Decomposition,
-    cert: &Certifier,
-    drawn: &Drawn,
     space: &mut CayleySpace<f64>,
 ) -> Option<Accuracy> {
-    let (con, jet) = reference_constructions(linkage, dec)?;
-    let reference =
-        component_through(&con, cert, &jet, &drawn.ty, Dd::new(drawn.lambda), LazyOptions::default()).ok()?;
-    Some(compare_runs(&reference.intervals, &mut space.intervals, linkage.scale))
+    let jet: Construction<Jet<Dd>> = Construction::new(linkage, dec).ok()?;
+    let scale = linkage.scale;
+    // One refinement per endpoint id: two types meeting at a root share it.
+    let mut by_id: std::collections::HashMap<usize, Option<Dd>> = std::collections::HashMap::new();
+    let (mut worst, mut of_value): (f64, f64) = (0.0, 0.0);
+    let (mut same_structure, mut all_refined) = (true, true);
+    for iv in &mut space.intervals {
+        let point = iv.lower.lambda == iv.upper.lambda;
+        let bits = &iv.ty.0;
+        let mut refined_ends = [None, None];
+        for (slot, end) in refined_ends.iter_mut().zip([&iv.lower, &iv.upper]) {
+            let Some(&event) = end.events.first() else {
+                all_refined = false;
+                continue;
+            };
+            let x = *by_id.entry(end.id).or_insert_with(|| refine_end(&jet, bits, event, end.lambda, point, scale));
+            same_structure &= x.is_some();
+            *slot = x;
+        }
+        if let [Some(lo), Some(hi)] = refined_ends {
+            same_structure &= lo <= hi;
+        }
+        for (x, y) in refined_ends.into_iter().zip([&mut iv.lower.lambda, &mut iv.upper.lambda]) {
+            let Some(x) = x else { continue };
+            let error = (x - Dd::new(*y)).to_f64().abs();
+            worst = worst.max(error);
+            if x.to_f64() != 0.0 {
+                of_value = of_value.max(error / x.to_f64().abs());
+            }
+            if same_structure {
+                *y = x.to_f64();
+            }
+        }
+    }
+    if !same_structure {
+        // Keep the f64 run's endpoints: the refinement did not confirm them all.
+        return Some(Accuracy {
+            max_endpoint_error: worst,
+            max_relative_error: worst / scale,
+            max_error_of_value: of_value,
+            same_structure,
+            refined: false,
+        });
+    }
+    Some(Accuracy {
+        max_endpoint_error: worst,
+        max_relative_error: worst / scale,
+        max_error_of_value: of_value,
+        same_structure,
+        refined: all_refined,
+    })
+}
+
+/// An end of type `bits` at `lambda` (f64), where `event` is flat, located in
+/// double-double: Newton on the flat step's slack (on its slope for an
+/// isolated point, a double root) from `lambda`, until a step is below
+/// double-double's rounding. `None` when it does not converge within
+/// [`crate::tolerance::DD_NEWTON_STEPS`] steps or strays beyond
+/// [`crate::tolerance::DD_NEWTON_MAX_STEP`] × `scale` from `lambda`: then
+/// `lambda` is no f64 rounding of that root.
+fn refine_end(
+    jet: &Construction<Jet<Dd>>,
+    bits: &[bool],
+    event: crate::realize::Event,
+    lambda: f64,
+    point: bool,
+    scale: f64,
+) -> Option<Dd> {
+    use crate::tolerance::{DD_NEWTON_MAX_STEP, DD_NEWTON_STEPS, DD_REFINED, NEWTON_CONVERGED_ULPS};
+    let s = &jet.steps[event.step];
+    let start = Dd::new(lambda);
+    let mut x = start;
+    let mut last: Option<f64> = None;
+    for _ in 0..DD_NEWTON_STEPS {
+        let pos = jet.realize_prefix(Jet::variable(x), bits, event.step).ok()?;
+        let g = event.kind.slack_value(s.r1, s.r2, jet.base_distance(&pos, event.step));
+        let (value, slope) = if point { (g.d, g.s) } else { (g.v, g.d) };
+        if value == Dd::zero() {
+            return Some(x);
+        }
+        let step = value / slope;
+        if !step.to_f64().is_finite() {
+            return None;
+        }
+        x = x - step;
+        if (x - start).to_f64().abs() > DD_NEWTON_MAX_STEP * scale {
+            return None;
+        }
+        let size = step.to_f64().abs();
+        // Converged: to double-double resolution, or (deep chains amplify
+        // double-double rounding) far below f64's, where the rest of the
+        // error cannot change x's rounding to f64 or its distance from it;
+        // or a step past f64's resolution that stops shrinking (noise).
+        let magnitude = x.to_f64().abs();
+        if size <= NEWTON_CONVERGED_ULPS * Dd::UNIT_ROUNDOFF * magnitude
+            || size <= DD_REFINED * f64::UNIT_ROUNDOFF * magnitude
+            || last.is_some_and(|l| size >= l && l <= f64::UNIT_ROUNDOFF * magnitude)
+        {
+            return Some(x);
+        }
+        last = Some(size);
+    }
+    None
 }
 
 /// Compute the Cayley space in double-double and compare it with `space`.
@@ -549,9 +660,7 @@ pub fn analyse_with(scene: Scene, base_override: Option<[usize; 2]>, scope: Scop
     };
     let accuracy = if lazy {
         (dec.steps.len() <= LAZY_REFERENCE_MAX_STEPS && !space.intervals.is_empty())
-            .then(|| {
-                timings.time("reference", || lazy_reference_accuracy(&linkage, &dec, &certifier, &drawn, &mut space))
-            })
+            .then(|| timings.time("reference", || lazy_reference_accuracy(&linkage, &dec, &mut space)))
             .flatten()
     } else if space.intervals.len() <= REFERENCE_MAX_TYPES {
         timings.time("reference", || reference_accuracy(&linkage, &dec, &complexity, &certifier, &mut space))

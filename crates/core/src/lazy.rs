@@ -31,8 +31,10 @@ use crate::cayley_space::{CayleySpace, Method, Note, OrientedInterval};
 use crate::certify::{At, Certifier, Sign};
 use crate::real::{Jet, Real};
 use crate::realize::{Construction, Event, Kind, RealizationType, Unrealizable};
+use std::cell::Cell;
+
 use crate::roots::{
-    Endpoint, EndpointIds, Extremum, base_distance_jet, between, cmp, cosine_sample, newton, side_signs,
+    Endpoint, EndpointIds, Extremum, base_distance_jet, between, cmp, cosine_sample, newton, newton_seeded, side_signs,
 };
 use crate::tolerance;
 
@@ -51,6 +53,37 @@ impl Default for LazyOptions {
     }
 }
 
+/// What one walk did, counted as it went (for `bench --scaling`): the
+/// construction steps it realized (in jets or plain numbers; the
+/// certifier's proofs at the ends are not counted) and its Newton root
+/// locations.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct WalkCounts {
+    /// Construction steps of the scene (a full realization places this many).
+    pub steps: usize,
+    /// Oriented intervals of the component walked.
+    pub intervals: usize,
+    /// Construction steps realized (placed, or measured at the step asked
+    /// about), summed over every realization the walk made.
+    pub steps_realized: usize,
+    /// Roots located by Newton (a slack's sign change bracketed in a gap).
+    pub roots: usize,
+    /// Evaluations of the slack those Newton searches made.
+    pub newton_evaluations: usize,
+}
+
+impl WalkCounts {
+    /// Full-length realization equivalents per interval: steps realized / (steps · intervals).
+    pub fn realizations_per_interval(&self) -> f64 {
+        self.steps_realized as f64 / (self.steps.max(1) * self.intervals.max(1)) as f64
+    }
+
+    /// Slack evaluations per root located (0 when no root needed Newton).
+    pub fn newton_evals_per_root(&self) -> f64 {
+        if self.roots == 0 { 0.0 } else { self.newton_evaluations as f64 / self.roots as f64 }
+    }
+}
+
 /// The oriented intervals of the component through `(ty, lambda)`, sorted by
 /// type then λ, with shared endpoint ids exactly as the exhaustive sweep gives them
 /// (so [`crate::motion::components`] on the result finds this component).
@@ -63,8 +96,21 @@ pub fn component_through<T: Real>(
     lambda: T,
     options: LazyOptions,
 ) -> Result<CayleySpace<T>, Unrealizable> {
+    component_through_counted(con, cert, jet, ty, lambda, options).map(|(space, _)| space)
+}
+
+/// [`component_through`] with what the walk did ([`WalkCounts`]).
+pub fn component_through_counted<T: Real>(
+    con: &Construction<T>,
+    cert: &Certifier,
+    jet: &Construction<Jet<T>>,
+    ty: &RealizationType,
+    lambda: T,
+    options: LazyOptions,
+) -> Result<(CayleySpace<T>, WalkCounts), Unrealizable> {
     con.realize(lambda, ty)?;
     let mut walker = Walker::new(con, cert, jet, options);
+    walker.count_steps(con.steps.len());
     let mut intervals = match walker.isolated_start(ty, lambda) {
         Some(points) => points,
         None => walker.component(ty, lambda),
@@ -72,14 +118,22 @@ pub fn component_through<T: Real>(
     // Sorted as the exhaustive sweep sorts, so that the component's traversal
     // starts (and turns) the same way: from its least type's interval, upward.
     intervals.sort_by(|a, b| a.ty.cmp(&b.ty).then(cmp(&a.lower.lambda, &b.lower.lambda)));
+    let counts = WalkCounts {
+        steps: con.steps.len(),
+        intervals: intervals.len(),
+        steps_realized: walker.steps_realized.get(),
+        roots: walker.roots.get(),
+        newton_evaluations: walker.newton_evaluations.get(),
+    };
     let mut notes = walker.notes;
     notes.dedup();
-    Ok(CayleySpace {
+    let space = CayleySpace {
         intervals,
         notes,
         method: Method::Numeric { samples: options.samples, tol: 0.0 },
         numeric_steps: (0..con.steps.len()).collect(),
-    })
+    };
+    Ok((space, counts))
 }
 
 /// One step's slack of one kind, for one type, along one direction of walk.
@@ -121,6 +175,15 @@ struct Walker<'a, T: Real> {
     root_value: T,
     ids: EndpointIds,
     notes: Vec<Note>,
+    /// [`Certifier::kinds`] of each step, asked once (each gap asks them all).
+    kinds: Vec<&'static [Kind]>,
+    /// The probe [`Self::scan_gap`] made at the root it returned last
+    /// (the approach to that root ends there: it is not realized twice).
+    root_probe: Option<Probe<T>>,
+    /// Counted for [`WalkCounts`].
+    steps_realized: Cell<usize>,
+    roots: Cell<usize>,
+    newton_evaluations: Cell<usize>,
 }
 
 fn finite<T: Real>(j: &Jet<T>) -> bool {
@@ -166,11 +229,23 @@ impl<'a, T: Real> Walker<'a, T> {
             root_value: T::from_f64(tolerance::ROOT_VALUE) * scale,
             ids: EndpointIds::default(),
             notes: Vec::new(),
+            kinds: (0..con.steps.len()).map(|k| cert.kinds(k)).collect(),
+            root_probe: None,
+            steps_realized: Cell::new(0),
+            roots: Cell::new(0),
+            newton_evaluations: Cell::new(0),
         }
     }
 
+    /// Count `steps` construction steps realized.
+    fn count_steps(&self, steps: usize) {
+        self.steps_realized.set(self.steps_realized.get() + steps);
+    }
+
     fn probe(&self, bits: &[bool], lambda: T) -> Probe<T> {
-        Probe { lambda, d: self.jet.base_distances(Jet::variable(lambda), bits) }
+        let d = self.jet.base_distances(Jet::variable(lambda), bits);
+        self.count_steps(d.len());
+        Probe { lambda, d }
     }
 
     /// Slack of step k for `kind` from its base distance, with the slope
@@ -185,11 +260,12 @@ impl<'a, T: Real> Walker<'a, T> {
     /// folded slack is d ≥ 0 itself: it never goes negative, and d = 0 is a
     /// degenerate step (its base joints coincide), not an end.
     fn kinds(&self, k: usize) -> &'static [Kind] {
-        self.cert.kinds(k)
+        self.kinds[k]
     }
 
     /// Step k's slack at λ alone (realizing only the steps before it).
     fn slack_at(&self, s: Along<T>, lambda: T) -> Option<Jet<T>> {
+        self.count_steps(s.k + 1);
         let d = base_distance_jet(self.jet, s.bits, s.k, lambda)?;
         Some(self.slack(s.k, s.kind, d, s.dir))
     }
@@ -308,7 +384,11 @@ impl<'a, T: Real> Walker<'a, T> {
             return Some(ty.flipped(steps[0]));
         }
         let beside = e.lambda + dir * T::from_f64(tolerance::FEASIBLE.sqrt() * self.con.scale);
-        let realizable = |t: &RealizationType| self.con.realize(beside, t).is_ok();
+        let n = self.con.steps.len();
+        let realizable = |t: &RealizationType| {
+            self.count_steps(n);
+            self.con.realize(beside, t).is_ok()
+        };
         // Single flips only, as `motion::components` links them.
         (0..steps.len()).map(|b| ty.flipped(steps[b])).find(|t| realizable(t))
     }
@@ -380,6 +460,8 @@ impl<'a, T: Real> Walker<'a, T> {
                 Some((lambda, events)) => {
                     pending.clear();
                     made.clear();
+                    // The root's own probe waits at the bottom of the stack, for the last gap.
+                    made.extend(self.root_probe.take().filter(|p| p.lambda == lambda));
                     pending.push(lambda);
                     pending.extend(toward(lambda, near.lambda, approach));
                     approaching = Some((lambda, events));
@@ -510,7 +592,9 @@ impl<'a, T: Real> Walker<'a, T> {
                 }
             }
         }
-        shrunk.map(|p| (p.lambda, events))
+        let found = shrunk.as_ref().map(|p| (p.lambda, events));
+        self.root_probe = shrunk;
+        found
     }
 
     /// The first λ in (a, b] (walking in `dir`) where step k's slack for
@@ -527,7 +611,7 @@ impl<'a, T: Real> Walker<'a, T> {
         } else if s1.v == zero {
             return Some(b);
         } else if s1.v < zero {
-            return Some(self.locate(along, a, b));
+            return Some(self.locate(along, a, (b, s1)));
         }
         let clamp = |s: Jet<T>| Jet { v: if s.v < zero { zero } else { s.v }, ..s };
         let (s0, s1) = (clamp(s0), clamp(s1));
@@ -578,7 +662,7 @@ impl<'a, T: Real> Walker<'a, T> {
                     return self.through_minimum(along, a, b);
                 }
                 if sc.v <= T::zero() {
-                    return Some(self.locate(along, a, c));
+                    return Some(self.locate(along, a, (c, sc)));
                 }
                 self.search(along, (a, s0), (c, sc), depth + 1)
                     .or_else(|| self.search(along, (c, sc), (b, s1), depth + 1))
@@ -610,13 +694,20 @@ impl<'a, T: Real> Walker<'a, T> {
                 }
                 None
             }
-            Extremum::Below => Some(self.locate(along, a, m)),
+            Extremum::Below => Some(self.locate(along, a, (m, sm))),
         }
     }
 
-    /// The root of step k's slack between a (slack > 0) and b (≤ 0).
-    fn locate(&self, along: Along<T>, a: T, b: T) -> T {
-        newton(a, b, |x| self.slack_at(along, x).map(|s| (s.v, s.d * along.dir)))
+    /// The root of step k's slack between a (slack > 0) and b (≤ 0), where
+    /// the slack's jet `sb` (slope along the walk) is already known: the
+    /// first Newton step is taken from b (often a root found already, or
+    /// next to one), at no cost.
+    fn locate(&self, along: Along<T>, a: T, (b, sb): (T, Jet<T>)) -> T {
+        let seed = finite(&sb).then_some((b, sb.v, sb.d * along.dir));
+        let run = newton_seeded(a, b, seed, |x| self.slack_at(along, x).map(|s| (s.v, s.d * along.dir)));
+        self.roots.set(self.roots.get() + 1);
+        self.newton_evaluations.set(self.newton_evaluations.get() + run.evaluations);
+        run.root
     }
 }
 

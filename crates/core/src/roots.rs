@@ -148,18 +148,61 @@ pub fn bisect<T: Real>(mut a: T, mut b: T, stop: T, f: impl Fn(T) -> Option<i8>)
 
 /// A root of g between a (g > 0) and b (g ≤ 0, or undefined): Newton steps
 /// from g's value and derivative (`f` gives both, in λ) while they stay
-/// inside the shrinking bracket, bisection otherwise; to full precision
-/// (a step within [`tolerance::NEWTON_CONVERGED_ULPS`] of x). The point of least
-/// |g| seen when the iterations run out.
+/// inside the shrinking bracket, bisection otherwise; to full precision.
+/// The point of least |g| seen when the iterations run out.
 pub fn newton<T: Real>(a: T, b: T, f: impl Fn(T) -> Option<(T, T)>) -> T {
+    newton_seeded(a, b, None, f).root
+}
+
+/// What [`newton_seeded`] found and what it cost.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct NewtonRun<T> {
+    /// The root (or the point of least |g| seen).
+    pub root: T,
+    /// Calls of `f`.
+    pub evaluations: usize,
+}
+
+/// [`newton`] with a known evaluation `seed` = (x, g(x), g′(x)) inside or at
+/// an end of the bracket (typically its far end, already evaluated as a
+/// sample or a root of another step): the first step is taken from it at no
+/// cost instead of from the midpoint.
+///
+/// Stops when a step is rounding noise: within
+/// [`tolerance::NEWTON_CONVERGED_ULPS`] of x, or — at the rounding floor,
+/// where g's value is its rounding error and Newton steps stop shrinking —
+/// when a Newton step is no shorter than the one before and both are below
+/// [`tolerance::NEWTON_FLOOR`] of the bracket's magnitude. At the floor every
+/// point is as good a root as f64 resolves: the secant root between the
+/// bracket's evaluated ends (the one of least |g| if either is not evaluated)
+/// is returned.
+pub fn newton_seeded<T: Real>(a: T, b: T, seed: Option<(T, T, T)>, f: impl Fn(T) -> Option<(T, T)>) -> NewtonRun<T> {
     let (mut pos, mut neg) = (a, b);
     let two = T::from_f64(2.0);
     let mut x = (a + b) / two;
     let mut best = (x, T::from_f64(f64::INFINITY));
+    let mut evaluations = 0;
+    let converged = T::from_f64(tolerance::NEWTON_CONVERGED_ULPS * T::UNIT_ROUNDOFF);
+    let floor = T::from_f64(tolerance::NEWTON_FLOOR) * (if a.abs() > b.abs() { a.abs() } else { b.abs() });
+    let mut last_step: Option<T> = None;
+    // g at the bracket's ends, once evaluated there.
+    let (mut g_pos, mut g_neg): (Option<T>, Option<T>) = (None, None);
+    let mut known = seed.filter(|&(s, _, _)| s == a || s == b || between(s, a, b));
     for _ in 0..tolerance::ROOT_MAX_ITERATIONS {
-        let Some((g, dg)) = f(x) else {
+        let evaluated = match known.take() {
+            Some((s, g, dg)) => {
+                x = s;
+                Some((g, dg))
+            }
+            None => {
+                evaluations += 1;
+                f(x)
+            }
+        };
+        let Some((g, dg)) = evaluated else {
             neg = x;
             x = (pos + neg) / two;
+            last_step = None;
             if !between(x, pos, neg) {
                 break;
             }
@@ -169,21 +212,32 @@ pub fn newton<T: Real>(a: T, b: T, f: impl Fn(T) -> Option<(T, T)>) -> T {
             best = (x, g.abs());
         }
         if g == T::zero() {
-            return x;
+            return NewtonRun { root: x, evaluations };
         }
         if g > T::zero() {
             pos = x;
+            g_pos = Some(g);
         } else {
             neg = x;
+            g_neg = Some(g);
         }
         let step = g / dg;
         let next = x - step;
+        // A NaN step is no shorter either.
+        let shrinks = |l: T| step.abs().partial_cmp(&l) == Some(std::cmp::Ordering::Less);
+        if last_step.is_some_and(|l: T| !shrinks(l) && l <= floor) {
+            let secant = g_pos.zip(g_neg).map(|(gp, gn)| pos - gp * (neg - pos) / (gn - gp));
+            let root = secant.filter(|&s| s == pos || s == neg || between(s, pos, neg)).unwrap_or(best.0);
+            return NewtonRun { root, evaluations };
+        }
         if between(next, pos, neg) && step.to_f64().is_finite() {
-            if step.abs() <= T::from_f64(tolerance::NEWTON_CONVERGED_ULPS * T::UNIT_ROUNDOFF) * x.abs() {
-                return next;
+            if step.abs() <= converged * x.abs() {
+                return NewtonRun { root: next, evaluations };
             }
+            last_step = Some(step.abs());
             x = next;
         } else {
+            last_step = None;
             let mid = (pos + neg) / two;
             if !between(mid, pos, neg) {
                 break;
@@ -191,5 +245,47 @@ pub fn newton<T: Real>(a: T, b: T, f: impl Fn(T) -> Option<(T, T)>) -> T {
             x = mid;
         }
     }
-    best.0
+    NewtonRun { root: best.0, evaluations }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// g(x) = 2 − x² on [1, 2]: positive at 1, negative at 2, root √2.
+    fn g(x: f64) -> Option<(f64, f64)> {
+        Some((2.0 - x * x, -2.0 * x))
+    }
+
+    #[test]
+    fn newton_finds_the_root_and_counts_its_evaluations() {
+        let run = newton_seeded(1.0, 2.0, None, g);
+        assert!((run.root - 2f64.sqrt()).abs() <= 4.0 * f64::EPSILON);
+        // From the midpoint 1.5: quadratic convergence, a handful of steps.
+        assert!((3..=6).contains(&run.evaluations), "{run:?}");
+        assert_eq!(newton(1.0, 2.0, g), run.root);
+    }
+
+    #[test]
+    fn a_seed_at_a_known_root_costs_nothing() {
+        let r = 2f64.sqrt();
+        let (v, d) = g(r).unwrap();
+        let run = newton_seeded(1.0, 2.0, Some((r, 0.0, d)), g);
+        assert_eq!((run.root, run.evaluations), (r, 0));
+        // Seeded next to the root, far fewer evaluations than from the midpoint.
+        let near = r + 1e-9;
+        let (vn, dn) = g(near).unwrap();
+        let seeded = newton_seeded(1.0, near, Some((near, vn, dn)), g);
+        assert!((seeded.root - r).abs() <= 4.0 * f64::EPSILON && seeded.evaluations <= 2, "{seeded:?} {v}");
+    }
+
+    #[test]
+    fn newton_stops_at_the_rounding_floor() {
+        // A root whose value is only known to ~1e-12 (noise far above f64's
+        // ulp): Newton must stop once its steps stop shrinking, not chase it.
+        let noisy = |x: f64| Some((2.0 - x * x + 1e-12 * (x * 1e9).sin(), -2.0 * x));
+        let run = newton_seeded(1.0, 2.0, None, noisy);
+        assert!((run.root - 2f64.sqrt()).abs() <= 1e-11, "{run:?}");
+        assert!(run.evaluations <= 12, "{run:?}");
+    }
 }

@@ -132,6 +132,13 @@ pub const ROOT_MAX_ITERATIONS: usize = 200;
 /// and the double-double re-location of an end in `certify`).
 pub const NEWTON_CONVERGED_ULPS: f64 = 4.0;
 
+/// Newton has reached the rounding floor when a step is no shorter than the
+/// one before and both are below this fraction of the bracket's magnitude:
+/// quadratic convergence shrinks every step far more until rounding noise
+/// (which on deep chains is many ulps) decides the steps. Precision, not
+/// structure: the end's flat steps are proven afterwards (`certify`).
+pub const NEWTON_FLOOR: f64 = 1e-9;
+
 /// The numeric root search splits a gap at an inflection (or halves it) at
 /// most this many times: below 2^-40 of a gap the sample spacing holds no
 /// more structure than f64 resolves. A bound on work.
@@ -185,6 +192,11 @@ pub const BALL_TOO_WIDE: f64 = 1e-8;
 /// Newton steps that re-locate an end in double-double from its f64 value
 /// (each doubles the correct digits: 6 go far beyond double-double's 32).
 pub const DD_NEWTON_STEPS: usize = 6;
+
+/// A double-double Newton step below this × f64's unit roundoff × |λ| has
+/// refined an f64 end: the error left (quadratically smaller than the
+/// step) changes neither its rounding to f64 nor the measured f64 error.
+pub const DD_REFINED: f64 = 1e-8;
 
 /// A double-double Newton step longer than this (× scale) is not a
 /// refinement of an end located in f64: the re-location stops there.

@@ -1,0 +1,96 @@
+//! Issue 12 (lazy walk and self-check): the walk's counters count what it
+//! does, and the double-double self-check of a lazy analysis catches an f64
+//! endpoint that is off its root. Never a speed.
+
+use caymos::analysis::{Scope, lazy_reference_accuracy};
+use caymos::bundled;
+use caymos::generate::chain;
+use caymos::lazy::{LazyOptions, WalkCounts, component_through, component_through_counted};
+use caymos::real::Jet;
+use caymos::scene::Scene;
+
+use crate::helpers::solve_with;
+
+/// The lazy walk of the drawn component, with its counts.
+fn walk(scene: Scene) -> (caymos::cayley_space::CayleySpace<f64>, WalkCounts) {
+    let (_, s) = solve_with(scene, None, Scope::Lazy);
+    let jet = s.construction.convert::<Jet<f64>>();
+    let options = LazyOptions::default();
+    let (space, counts) =
+        component_through_counted(&s.construction, &s.certifier, &jet, &s.drawn.ty, s.drawn.lambda, options)
+            .expect("the drawing is realizable");
+    // The counted walk is the walk.
+    let plain = component_through(&s.construction, &s.certifier, &jet, &s.drawn.ty, s.drawn.lambda, options).unwrap();
+    assert_eq!(space.intervals, plain.intervals);
+    (space, counts)
+}
+
+/// A Grashof four-bar on base (A, C): both steps are on the base, so every
+/// end is an end of the base's range (λ = r1 ± r2, exact): no Newton at all.
+/// The walk realizes at least: the start (once to check it, once as the first
+/// probe), three searches over the whole range of 32 grid samples each (up
+/// and down from the start, then the flipped type back across), and one probe
+/// after the flip: 99 realizations of 2 steps. The rest are the approach
+/// samples toward the ends; the exact count is pinned so that a change in
+/// what the walk does shows here.
+#[test]
+fn four_bar_walk_counts() {
+    let (space, c) = walk(bundled::load("fourbar-crank-rocker").unwrap());
+    assert_eq!((c.steps, c.intervals), (2, space.intervals.len()));
+    assert_eq!(c.intervals, 2);
+    assert_eq!((c.roots, c.newton_evaluations), (0, 0));
+    assert_eq!(c.newton_evals_per_root(), 0.0);
+    assert!(c.steps_realized >= 99 * 2);
+    assert_eq!(c.steps_realized, 240);
+    assert_eq!(c.realizations_per_interval(), 240.0 / (2.0 * 2.0));
+}
+
+/// A chain of three four-cycles: its last step is off the base, and the
+/// component's two ends (that step folded and stretched) are each located
+/// by Newton at least once; every root costs at least one evaluation.
+#[test]
+fn chain_walk_counts() {
+    let (space, c) = walk(chain(3));
+    let off_base: std::collections::BTreeSet<usize> = space
+        .intervals
+        .iter()
+        .flat_map(|iv| [&iv.lower, &iv.upper])
+        .filter(|e| e.events.iter().any(|ev| ev.step == 2))
+        .map(|e| e.id)
+        .collect();
+    assert_eq!(off_base.len(), 2);
+    assert!(c.roots >= off_base.len());
+    assert!(c.newton_evaluations >= c.roots);
+    assert_eq!((c.steps, c.intervals, c.steps_realized, c.roots, c.newton_evaluations), (3, 2, 408, 6, 46));
+}
+
+/// The self-check refines each f64 end in double-double: on an unperturbed
+/// walk it agrees to f64 rounding; an end moved by 10⁻⁹ of the scale is
+/// reported as that error (and refined back); an end moved beyond any
+/// refinement (10⁻³) is reported as a different structure.
+#[test]
+fn self_check_catches_an_injected_endpoint_error() {
+    let (a, s) = solve_with(chain(10), None, Scope::Lazy);
+    let scale = a.linkage.scale;
+    let acc = s.accuracy.clone().expect("a lazy analysis of 10 steps checks itself");
+    assert!(acc.same_structure && acc.refined && acc.max_relative_error <= 1e-12, "{acc:?}");
+
+    let mut clean = s.space.clone();
+    let acc = lazy_reference_accuracy(&a.linkage, &s.dec, &mut clean).unwrap();
+    assert!(acc.same_structure && acc.max_relative_error <= 1e-14, "{acc:?}");
+
+    let i = s.space.intervals.iter().position(|iv| !iv.upper.events.is_empty()).expect("an end with a flat step");
+    let original = s.space.intervals[i].upper.lambda;
+    let mut small = s.space.clone();
+    small.intervals[i].upper.lambda += 1e-9 * scale;
+    let acc = lazy_reference_accuracy(&a.linkage, &s.dec, &mut small).unwrap();
+    assert!(acc.same_structure, "{acc:?}");
+    assert!((0.9e-9..1.1e-9).contains(&acc.max_relative_error), "{acc:?}");
+    assert!((small.intervals[i].upper.lambda - original).abs() <= 1e-14 * scale);
+
+    let mut large = s.space.clone();
+    large.intervals[i].upper.lambda += 1e-3 * scale;
+    let acc = lazy_reference_accuracy(&a.linkage, &s.dec, &mut large).unwrap();
+    assert!(!acc.same_structure && !acc.refined, "{acc:?}");
+    assert_eq!(large.intervals[i].upper.lambda, original + 1e-3 * scale, "an unconfirmed end is left as it was");
+}
