@@ -97,3 +97,38 @@ fn generated_scenes_round_trip_through_toml() {
         }
     }
 }
+
+/// Issue 12: the like-for-like rows. The timed pipeline is the analysis
+/// itself (same components as `analyse` without its self-check), and each
+/// row names its scene, both medians and every phase (values never asserted
+/// beyond being measured).
+#[test]
+fn analysis_rows_time_the_same_analysis_by_phase() {
+    for name in ["fourbar-crank-rocker", "jansen", "limacon", "peaucellier"] {
+        let scene = caymos::bundled::load(name).unwrap();
+        let solved = analyse(scene.clone(), None).unwrap().outcome.unwrap();
+        let (components, timings) = caymos::bench::full_analysis_phases(&scene, None);
+        assert_eq!(components, solved.components.list.len(), "{name}");
+        let phases: Vec<&str> = timings.0.iter().map(|(p, _)| *p).collect();
+        assert_eq!(phases, ["linkage", "decompose", "four_cycle", "construction", "cayley_space", "components"]);
+    }
+    let out = Command::new(env!("CARGO_BIN_EXE_caymos"))
+        .args(["bench", "jansen", "limacon", "--repeat", "3", "--format", "json"])
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let rows = json["analysis"].as_array().unwrap();
+    let scenes: Vec<&str> = rows.iter().map(|r| r["scene"].as_str().unwrap()).collect();
+    assert_eq!(scenes, ["Jansen leg", "Limacon"]);
+    for r in rows {
+        for key in ["full_analysis_us", "realization_us"] {
+            assert!(r[key].as_f64().is_some_and(|t| t.is_finite() && t >= 0.0), "{key}: {r}");
+        }
+        let phases = r["phases_us"].as_object().unwrap();
+        assert_eq!(phases.len(), 6, "{r}");
+    }
+    let text = Command::new(env!("CARGO_BIN_EXE_caymos")).args(["bench", "jansen", "--repeat", "1"]).output().unwrap();
+    let text = String::from_utf8_lossy(&text.stdout);
+    assert!(text.contains("analysis µs") && text.contains("realizations") && text.contains("cayley_space"), "{text}");
+}
