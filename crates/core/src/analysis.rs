@@ -64,8 +64,9 @@ pub const REFERENCE_MAX_TYPES: usize = 1 << 12;
 /// the lazy analysis unless the full one is asked for.
 pub const LAZY_ABOVE_STEPS: usize = 16;
 
-/// The lazy analysis checks itself against a double-double walk up to this
-/// many steps (the reference walk costs about ten f64 walks).
+/// The lazy analysis checks itself up to this many steps, by refining its
+/// ends in double-double ([`lazy_reference_accuracy`]: a few realizations
+/// per end, a fraction of the walk).
 pub const LAZY_REFERENCE_MAX_STEPS: usize = 128;
 
 /// How much of the realization space to compute.
