@@ -93,4 +93,7 @@ fn self_check_catches_an_injected_endpoint_error() {
     let acc = lazy_reference_accuracy(&a.linkage, &s.dec, &mut large).unwrap();
     assert!(!acc.same_structure && !acc.refined, "{acc:?}");
     assert_eq!(large.intervals[i].upper.lambda, original + 1e-3 * scale, "an unconfirmed end is left as it was");
+    // ...and so is every other end: nothing is replaced unless all are confirmed.
+    large.intervals[i].upper.lambda = original;
+    assert_eq!(large.intervals, s.space.intervals);
 }
