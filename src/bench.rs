@@ -368,7 +368,7 @@ pub fn bench_scene(a: &Analysis, s: &Solved, repeat: usize) -> (Vec<MethodRow>, 
     let con = &s.construction;
     let jet = con.convert::<Jet<f64>>();
     if s.lazy {
-        // Too many types to enumerate: only the lazy walk, against its double-double twin.
+        // Too many types to enumerate: only the lazy walk, against its ends refined in double-double.
         let (t, walked) = median_us(repeat, || {
             component_through(con, &s.certifier, &jet, &s.drawn.ty, s.drawn.lambda, LazyOptions::default())
         });

@@ -67,8 +67,9 @@ pub const REFERENCE_MAX_TYPES: usize = 1 << 12;
 /// the lazy analysis unless the full one is asked for.
 pub const LAZY_ABOVE_STEPS: usize = 16;
 
-/// The lazy analysis checks itself against a double-double walk up to this
-/// many steps (the reference walk costs about ten f64 walks).
+/// The lazy analysis checks itself up to this many steps, by refining its
+/// ends in double-double ([`lazy_reference_accuracy`]: a few realizations
+/// per end, a fraction of the walk).
 pub const LAZY_REFERENCE_MAX_STEPS: usize = 128;
 
 /// How much of the realization space to compute.
@@ -225,50 +226,47 @@ pub fn lazy_reference_accuracy(
     let mut by_id: std::collections::HashMap<usize, Option<Dd>> = std::collections::HashMap::new();
     let (mut worst, mut of_value): (f64, f64) = (0.0, 0.0);
     let (mut same_structure, mut all_refined) = (true, true);
-    for iv in &mut space.intervals {
+    let mut refined: Vec<[Option<Dd>; 2]> = Vec::with_capacity(space.intervals.len());
+    for iv in &space.intervals {
         let point = iv.lower.lambda == iv.upper.lambda;
-        let bits = &iv.ty.0;
-        let mut refined_ends = [None, None];
-        for (slot, end) in refined_ends.iter_mut().zip([&iv.lower, &iv.upper]) {
+        let mut ends = [None, None];
+        for (slot, end) in ends.iter_mut().zip([&iv.lower, &iv.upper]) {
             let Some(&event) = end.events.first() else {
                 all_refined = false;
                 continue;
             };
-            let x = *by_id.entry(end.id).or_insert_with(|| refine_end(&jet, bits, event, end.lambda, point, scale));
+            let x = *by_id.entry(end.id).or_insert_with(|| refine_end(&jet, &iv.ty.0, event, end.lambda, point, scale));
             same_structure &= x.is_some();
             *slot = x;
+            if let Some(x) = x {
+                let error = (x - Dd::new(end.lambda)).to_f64().abs();
+                worst = worst.max(error);
+                if x.to_f64() != 0.0 {
+                    of_value = of_value.max(error / x.to_f64().abs());
+                }
+            }
         }
-        if let [Some(lo), Some(hi)] = refined_ends {
+        if let [Some(lo), Some(hi)] = ends {
             same_structure &= lo <= hi;
         }
-        for (x, y) in refined_ends.into_iter().zip([&mut iv.lower.lambda, &mut iv.upper.lambda]) {
-            let Some(x) = x else { continue };
-            let error = (x - Dd::new(*y)).to_f64().abs();
-            worst = worst.max(error);
-            if x.to_f64() != 0.0 {
-                of_value = of_value.max(error / x.to_f64().abs());
-            }
-            if same_structure {
-                *y = x.to_f64();
+        refined.push(ends);
+    }
+    // The f64 run's endpoints are replaced only when every one was confirmed.
+    if same_structure {
+        for (iv, ends) in space.intervals.iter_mut().zip(&refined) {
+            for (x, y) in ends.iter().zip([&mut iv.lower.lambda, &mut iv.upper.lambda]) {
+                if let Some(x) = x {
+                    *y = x.to_f64();
+                }
             }
         }
-    }
-    if !same_structure {
-        // Keep the f64 run's endpoints: the refinement did not confirm them all.
-        return Some(Accuracy {
-            max_endpoint_error: worst,
-            max_relative_error: worst / scale,
-            max_error_of_value: of_value,
-            same_structure,
-            refined: false,
-        });
     }
     Some(Accuracy {
         max_endpoint_error: worst,
         max_relative_error: worst / scale,
         max_error_of_value: of_value,
         same_structure,
-        refined: all_refined,
+        refined: same_structure && all_refined,
     })
 }
 

@@ -174,8 +174,8 @@ pub struct NewtonRun<T> {
 /// when a Newton step is no shorter than the one before and both are below
 /// [`tolerance::NEWTON_FLOOR`] of the bracket's magnitude. At the floor every
 /// point is as good a root as f64 resolves: the secant root between the
-/// bracket's evaluated ends (the one of least |g| if either is not evaluated)
-/// is returned.
+/// bracket's evaluated ends is tried (one more evaluation), and the point of
+/// least |g| seen is returned.
 pub fn newton_seeded<T: Real>(a: T, b: T, seed: Option<(T, T, T)>, f: impl Fn(T) -> Option<(T, T)>) -> NewtonRun<T> {
     let (mut pos, mut neg) = (a, b);
     let two = T::from_f64(2.0);
@@ -227,8 +227,15 @@ pub fn newton_seeded<T: Real>(a: T, b: T, seed: Option<(T, T, T)>, f: impl Fn(T)
         let shrinks = |l: T| step.abs().partial_cmp(&l) == Some(std::cmp::Ordering::Less);
         if last_step.is_some_and(|l: T| !shrinks(l) && l <= floor) {
             let secant = g_pos.zip(g_neg).map(|(gp, gn)| pos - gp * (neg - pos) / (gn - gp));
-            let root = secant.filter(|&s| s == pos || s == neg || between(s, pos, neg)).unwrap_or(best.0);
-            return NewtonRun { root, evaluations };
+            if let Some(s) = secant.filter(|&s| between(s, pos, neg)) {
+                evaluations += 1;
+                if let Some((g, _)) = f(s)
+                    && g.abs() <= best.1
+                {
+                    return NewtonRun { root: s, evaluations };
+                }
+            }
+            return NewtonRun { root: best.0, evaluations };
         }
         if between(next, pos, neg) && step.to_f64().is_finite() {
             if step.abs() <= converged * x.abs() {
