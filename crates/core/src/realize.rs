@@ -279,21 +279,24 @@ pub fn slack<T: Real>(r1: T, r2: T, d: T) -> T {
 /// cancellation-free product h² = (r1+r2+d)(r1+r2−d)(d−|r1−r2|)(d+|r1−r2|)/(4d²).
 /// A slack down to `-tol` is clamped to a flat triangle; below, `Err(slack)`.
 pub fn apex<T: Real>(pu: P2<T>, pw: P2<T>, r1: T, r2: T, plus: bool, tol: f64) -> Result<P2<T>, Option<f64>> {
-    apex_flat(pu, pw, r1, r2, plus, tol, false)
+    let e = sub(pw, pu);
+    apex_flat(pu, e, norm(e), r1, r2, plus, tol, false)
 }
 
-/// [`apex`], optionally forcing the triangle flat (height zero).
+/// [`apex`] from the base vector `e = pw − pu` and its length `d = |e|`
+/// (computed once by the caller, which also records d as the step's base
+/// distance), optionally forcing the triangle flat (height zero).
+#[allow(clippy::too_many_arguments)]
 fn apex_flat<T: Real>(
     pu: P2<T>,
-    pw: P2<T>,
+    e: P2<T>,
+    d: T,
     r1: T,
     r2: T,
     plus: bool,
     tol: f64,
     flat: bool,
 ) -> Result<P2<T>, Option<f64>> {
-    let e = sub(pw, pu);
-    let d = norm(e);
     if d.partial_cmp(&T::zero()) != Some(std::cmp::Ordering::Greater) {
         return Err(None);
     }
@@ -546,14 +549,16 @@ impl<T: Real> Construction<T> {
         let mut pos = vec![[zero, zero]; self.n_joints];
         pos[self.base[1]] = [lambda, zero];
         for (k, s) in self.steps.iter().enumerate().take(upto) {
+            // One base vector and length per step: recorded, then built on.
+            let e = sub(pos[s.w], pos[s.u]);
+            let dk = norm(e);
             if let Some(d) = distances.as_deref_mut() {
-                d.push(norm(sub(pos[s.w], pos[s.u])));
+                d.push(dk);
             }
-            let v =
-                apex_flat(pos[s.u], pos[s.w], s.r1, s.r2, bits[k], tol, flat.contains(&k)).map_err(|e| match e {
-                    Some(slack) => Unrealizable::Infeasible { step: k, slack },
-                    None => Unrealizable::Degenerate { step: k },
-                })?;
+            let v = apex_flat(pos[s.u], e, dk, s.r1, s.r2, bits[k], tol, flat.contains(&k)).map_err(|e| match e {
+                Some(slack) => Unrealizable::Infeasible { step: k, slack },
+                None => Unrealizable::Degenerate { step: k },
+            })?;
             pos[s.vertex] = v;
             for (pivot, list) in [(s.u, &s.members_u), (s.w, &s.members_w)] {
                 let p = pos[pivot];
