@@ -381,24 +381,33 @@ impl Certifier {
     }
 
     /// The end's λ located in double-double: Newton on the flat step's
-    /// slack from the f64 value (a few steps double the digits each).
+    /// slack from the f64 value (a few steps double the digits each). It
+    /// stops at the rounding floor: a step no smaller than the one before is
+    /// rounding noise and is not taken; and once Newton's next step,
+    /// predicted from the last two (s_{k+1} ≈ s_k³ / s_{k-1}², quadratic
+    /// convergence), is below the resolution, it is not computed (a noisy
+    /// s_k only overstates it, so the stop is never early).
     fn refine_dd(&self, bits: &[bool], at: At, lambda: Dd) -> Dd {
         let Some(event) = at.events.first() else { return lambda };
         let Some(dd) = self.dd_constructions() else { return lambda };
         let con = &dd.jets;
         let s = &con.steps[event.step];
         let mut x = lambda;
+        let mut last = f64::INFINITY;
         for _ in 0..tolerance::DD_NEWTON_STEPS {
             let Ok(pos) = con.realize_prefix(Jet::variable(x), bits, event.step) else { break };
             let g = event.kind.slack_value(s.r1, s.r2, con.base_distance(&pos, event.step));
             let step = g.v / g.d;
-            if !step.to_f64().is_finite() || step.to_f64().abs() > tolerance::DD_NEWTON_MAX_STEP * con.scale {
+            let size = step.to_f64().abs();
+            if !size.is_finite() || size > tolerance::DD_NEWTON_MAX_STEP * con.scale || size >= last {
                 break;
             }
             x = x - step;
-            if step.to_f64().abs() <= tolerance::NEWTON_CONVERGED_ULPS * Dd::UNIT_ROUNDOFF * x.to_f64().abs() {
+            let resolution = tolerance::NEWTON_CONVERGED_ULPS * Dd::UNIT_ROUNDOFF * x.to_f64().abs();
+            if size <= resolution || (last.is_finite() && size * (size / last).powi(2) <= resolution) {
                 break;
             }
+            last = size;
         }
         x
     }
