@@ -291,8 +291,7 @@ E = [1.5, 1.5]
 C = [3, 2]
 D = [3.5, 0]
 "#;
-    let scene = caymos::scene::parse_scene(straight_coupler, "straight.toml", "straight").unwrap();
-    let (a, s) = solve(scene);
+    let (a, s) = solve_text(straight_coupler, "straight.toml");
     assert_eq!(s.mirrors, Mirrors::AtResolution);
     assert!(a.warnings.contains(&Warning::MirrorsAtResolution), "{:?}", a.warnings);
     // A Grashof crank-rocker (1 + 3.5 < √10 + √4.25): two components, mirror images.

@@ -41,6 +41,11 @@ pub fn solve(scene: Scene) -> (Analysis, Solved) {
     solve_with(scene, None, Scope::Full)
 }
 
+/// The full analysis of a scene written in the test (named `name`).
+pub fn solve_text(text: &str, name: &str) -> (Analysis, Solved) {
+    solve(caymos::scene::parse_scene(text, name, name).unwrap_or_else(|e| panic!("{name}: {e}")))
+}
+
 /// The full analysis of a bundled scene.
 pub fn solved(name: &str) -> (Analysis, Solved) {
     solve(bundled::load(name).unwrap_or_else(|e| panic!("{name}: {e}")))

@@ -192,7 +192,7 @@ B = [300.123456789, 906.6]
 D = [0.0005, 0.0006]
 "#;
     let truth = Dd::parse_decimal("0.000377123455083281737701099623659102").unwrap().to_f64();
-    let (a, s) = solve(parse_scene(text, "spread.toml", "spread").unwrap());
+    let (a, s) = solve_text(text, "spread.toml");
     let lower = s.union[0][0];
     assert!((lower - truth).abs() <= 1e-15 * truth, "reported {lower:e}, truth {truth:e}");
     let acc = s.accuracy.expect("reference ran");
@@ -275,7 +275,7 @@ B = [2.3859225013256795, 4.3940156824558345]
 D = [4.97817393156854, 0.46667366226457063]
 P = [2.9768057828522245, 1.9648477286880386]
 "#;
-    let (ta, t) = solve(parse_scene(tangent, "tangent", "tangent").unwrap());
+    let (ta, t) = solve_text(tangent, "tangent");
     assert_eq!(t.dec.other_bases(&ta.linkage).len(), 5);
     for (name, text) in [("parallelogram", parallelogram), ("kite", kite), ("tangent", tangent)] {
         let scene = parse_scene(text, name, name).unwrap();
