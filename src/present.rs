@@ -317,6 +317,22 @@ pub fn missing(m: &Missing) -> String {
 }
 
 /// The closest-pair certificate in words: "certified to …" only when it is.
+/// How far a minimal complete Cayley vector is proven smallest, in words.
+pub fn minimality(m: &crate::minimal_vector::MinimalVector) -> String {
+    use crate::minimal_vector::Minimality;
+    let mut said = match m.minimality {
+        Minimality::Proven => "proven to separate every component's realizations, and proven smallest".to_string(),
+        Minimality::SmallestFound => {
+            "proven to separate every component's realizations; no smaller set was proven (one may exist)".to_string()
+        }
+        Minimality::Whole => "no smaller set was proven to separate within the work budget".to_string(),
+    };
+    if m.unproven_components > 0 {
+        let _ = write!(said, "; {} component(s) could not be enclosed with proofs", m.unproven_components);
+    }
+    said
+}
+
 pub fn certificate(c: &Certificate) -> String {
     let (lo, hi, req) = (full(c.lower), full(c.upper), c.requested_gap);
     let range = format!("the minimum distance lies in [{lo}, {hi}] (relative gap {:.1e})", c.gap);

@@ -11,6 +11,7 @@ pub use caymos_core::numfmt::{fmt_num, fmt_sci, fmt_sig};
 use crate::analysis::{Analysis, NoRealization, Warning};
 use crate::decompose::Outside;
 use crate::linkage::{Constraint, Linkage};
+use crate::minimal_vector::{MinimalOptions, Minimality};
 use crate::present::{self, ComponentNo, ItemNo, Names, StepNo};
 use crate::realize::Kind;
 
@@ -39,6 +40,31 @@ pub struct StepReport {
     pub clusters: [Vec<String>; 2],
     /// |u v| and |w v|.
     pub lengths: [f64; 2],
+}
+
+/// Joint pairs as `a–b, …`; past 16 the first 8 and last 4 with the count.
+fn pairs_text(pairs: &[[String; 2]]) -> String {
+    let text: Vec<String> = pairs.iter().map(|[a, b]| format!("{a}–{b}")).collect();
+    if text.len() > 16 {
+        format!("{}, …, {} ({} pairs)", text[..8].join(", "), text[text.len() - 4..].join(", "), text.len())
+    } else {
+        text.join(", ")
+    }
+}
+
+/// The minimal complete Cayley vector (see `caymos_core::minimal_vector`).
+#[derive(Debug, Clone, Serialize, JsonSchema)]
+pub struct MinimalReport {
+    /// Its entries, a sub-list of `complete_cayley_vector` in the same order.
+    pub entries: Vec<[String; 2]>,
+    /// How far it is proven smallest.
+    pub minimality: Minimality,
+    /// Cells (pieces of components) enclosed and pairs of cells compared for the proofs.
+    pub cells: usize,
+    pub pairs: usize,
+    /// Components that could not be enclosed with proofs.
+    pub unproven_components: usize,
+    pub message: String,
 }
 
 #[derive(Debug, Clone, Serialize, JsonSchema)]
@@ -211,6 +237,9 @@ pub struct Report {
     pub low_cayley_complexity: Option<bool>,
     pub lcc_failure: Option<LccFailureReport>,
     pub complete_cayley_vector: Vec<[String; 2]>,
+    /// The smallest sub-vector proven to separate the realizations of every
+    /// component computed (`null` outside the class).
+    pub minimal_cayley_vector: Option<MinimalReport>,
     pub drawn: Option<DrawnReport>,
     pub sketch: Option<SketchReport>,
     pub analysis: AnalysisKind,
@@ -264,6 +293,7 @@ impl Report {
             low_cayley_complexity: None,
             lcc_failure: None,
             complete_cayley_vector: Vec::new(),
+            minimal_cayley_vector: None,
             drawn: None,
             sketch: None,
             analysis: AnalysisKind::Full,
@@ -317,6 +347,15 @@ impl Report {
                     message: present::lcc_failure(f, names),
                 });
                 r.complete_cayley_vector = s.complexity.ccv.iter().map(|&p| pair(p)).collect();
+                let m = s.minimal_vector(MinimalOptions::default());
+                r.minimal_cayley_vector = Some(MinimalReport {
+                    entries: m.entries.iter().map(|&e| pair(s.complexity.ccv[e])).collect(),
+                    minimality: m.minimality,
+                    cells: m.cells,
+                    pairs: m.pairs,
+                    unproven_components: m.unproven_components,
+                    message: present::minimality(&m),
+                });
                 r.drawn = Some(DrawnReport { lambda: s.drawn.lambda, ty: s.drawn.ty.to_string() });
                 r.sketch = s.sketch.as_ref().map(|f| SketchReport {
                     max_length_change: f.max_length_change,
@@ -447,13 +486,10 @@ impl Report {
             _ => "unknown".to_string(),
         };
         let _ = writeln!(o, "{:<24}{lcc}", "Low Cayley complexity");
-        let ccv: Vec<String> = self.complete_cayley_vector.iter().map(|[a, b]| format!("{a}–{b}")).collect();
-        let ccv = if ccv.len() > 16 {
-            format!("{}, …, {} ({} pairs)", ccv[..8].join(", "), ccv[ccv.len() - 4..].join(", "), ccv.len())
-        } else {
-            ccv.join(", ")
-        };
-        let _ = writeln!(o, "{:<24}{ccv}", "Complete Cayley vector");
+        let _ = writeln!(o, "{:<24}{}", "Complete Cayley vector", pairs_text(&self.complete_cayley_vector));
+        if let Some(m) = &self.minimal_cayley_vector {
+            let _ = writeln!(o, "{:<24}{}: {}", "Minimal Cayley vector", pairs_text(&m.entries), m.message);
+        }
         if let Some(d) = &self.drawn {
             let _ = writeln!(o, "{:<24}λ = {}  type {}", "Drawn realization", fmt_num(d.lambda), short_type(&d.ty));
         }

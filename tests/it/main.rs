@@ -9,6 +9,7 @@ mod closest;
 mod contract;
 mod graph;
 mod lazy;
+mod minimal;
 mod motion;
 mod perf;
 mod recognition;

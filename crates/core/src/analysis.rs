@@ -10,6 +10,7 @@ use crate::complexity::{Complexity, four_cycle_test};
 use crate::decompose::{Decomposition, Outside, decompose};
 use crate::lazy::{LazyOptions, component_through};
 use crate::linkage::Linkage;
+use crate::minimal_vector::{MinimalOptions, MinimalVector, minimal_vector};
 use crate::motion::{Components, components, locate};
 use crate::real::{Dd, Jet, Real};
 use crate::realize::{
@@ -122,6 +123,13 @@ pub struct Solved {
 }
 
 impl Solved {
+    /// The minimal complete Cayley vector of the components computed so far
+    /// (see [`crate::minimal_vector`]).
+    pub fn minimal_vector(&self, options: MinimalOptions) -> MinimalVector {
+        let (con, ccv) = (&self.construction, &self.complexity.ccv);
+        minimal_vector(con, &self.space, &self.components.list, ccv, self.mirrors, options)
+    }
+
     /// Make sure the component through `r` is known: in a lazy analysis it is
     /// walked and added (existing interval and component indices stay valid).
     /// Returns the interval holding `r`, or `None` if `r` has no realization.

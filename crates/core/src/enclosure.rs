@@ -181,7 +181,10 @@ fn slack_over(con: &Construction<f64>, bits: &[bool], (k, kind): (usize, Kind), 
 /// pair is then not certified).
 fn verify_end(con: &Construction<f64>, bits: &[bool], flat: (usize, Kind), end: f64, dir: f64) -> Option<Interval> {
     let s_at = |l: f64| slack_over(con, bits, flat, Interval::point(l)).0.v;
-    let mut m = tolerance::LAMBDA_RESOLUTION_ULPS * (f64::EPSILON / 2.0) * end.abs().max(con.scale);
+    // At least the smallest subnormal: at scales near 1e-320 the product
+    // underflows to 0, and a zero margin would never grow.
+    let mut m =
+        (tolerance::LAMBDA_RESOLUTION_ULPS * (f64::EPSILON / 2.0) * end.abs().max(con.scale)).max(f64::from_bits(1));
     while m <= tolerance::END_BRACKET_MAX * con.scale {
         let (mut inner, mut outer) = (end + dir * m, end - dir * m);
         let (s, strict) = slack_over(con, bits, flat, Interval::new(inner.min(outer), inner.max(outer)));

@@ -8,7 +8,8 @@
 //! component) compute the Cayley configuration space from the shared parts of
 //! [`roots`], with structural decisions proven in [`certify`]; [`motion`]
 //! joins intervals into components and paths; [`cayley_vector`](mod@cayley_vector) gives the
-//! complete Cayley distance vectors; [`distance`] certifies the closest pair.
+//! complete Cayley distance vectors and [`minimal_vector`](mod@minimal_vector) the smallest
+//! sub-vector proven to separate; [`distance`] certifies the closest pair.
 //! All tolerances live in [`tolerance`]; [`real`] and [`interval`] are the
 //! arithmetics (double-double, jets, balls, intervals).
 //! [`analysis`] runs it all, in f64 with a double-double self-check.
@@ -50,6 +51,7 @@ pub mod interval;
 pub mod invert;
 pub mod lazy;
 pub mod linkage;
+pub mod minimal_vector;
 pub mod motion;
 pub mod numbering;
 pub mod numfmt;
@@ -73,6 +75,7 @@ pub use decompose::{Decomposition, Outside, decompose};
 pub use distance::{Certificate, ClosestOptions, ClosestPair, closest_pair};
 pub use lazy::{LazyOptions, component_through};
 pub use linkage::Linkage;
+pub use minimal_vector::{MinimalVector, minimal_vector};
 pub use motion::{Component, Components, Sample, Segment, Stepper, WalkSummary, components, realization_at};
 pub use real::{Ball, Dd, Jet, Real};
 pub use realize::{Construction, Drawn, Event, Kind, Point2, Realization, RealizationType, Unrealizable};
