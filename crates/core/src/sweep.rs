@@ -505,6 +505,8 @@ pub struct Transition {
     /// Whether a sample at or inside the bracket rests on decisions the
     /// analysis could only estimate, not prove ([`crate::certify`]).
     pub estimated: bool,
+    /// The sample at `before`.
+    pub before_sample: Box<SweepSample>,
     /// The sample at `after` (its class, components, …).
     pub after_sample: Box<SweepSample>,
 }
@@ -556,43 +558,53 @@ fn bisect(setup: &Setup, mut a: SweepSample, mut b: SweepSample, out: &mut Vec<R
     out.push(Raw { lo: a.value, hi: b.value, from: a, to: b, resolved: false });
 }
 
-/// Raw brackets in order → transitions. Brackets that touch (one's upper
-/// float is the next one's lower) are one transition: the floats where they
-/// touch carry structures of their own ([`Transition::between`]).
+/// Raw brackets in order → transitions, [joined](join) where they touch.
 fn merge(gap: usize, raws: Vec<Raw>) -> Vec<Transition> {
-    let mut runs: Vec<Vec<Raw>> = Vec::new();
-    for r in raws {
-        match runs.last_mut() {
-            Some(run) if run.last().is_some_and(|l| l.resolved && r.resolved && l.hi == r.lo) => run.push(r),
-            _ => runs.push(vec![r]),
-        }
-    }
-    runs.into_iter()
-        .map(|run| {
-            let first = &run[0];
-            let last = &run[run.len() - 1];
-            let between: Vec<PointStructure> = run[..run.len() - 1]
-                .iter()
-                .map(|r| PointStructure {
-                    value: r.hi,
-                    changes: changes(&first.from.structure, &r.to.structure),
-                    sample: Box::new(r.to.clone()),
-                })
-                .collect();
-            let estimated = run.iter().any(|r| r.from.estimated > 0 || r.to.estimated > 0);
-            Transition {
-                gap,
-                before: first.lo,
-                after: last.hi,
-                value: first.hi,
-                changes: changes(&first.from.structure, &last.to.structure),
-                between,
-                resolved: run.iter().all(|r| r.resolved),
-                estimated,
-                after_sample: Box::new(last.to.clone()),
-            }
+    let single = raws
+        .into_iter()
+        .map(|r| Transition {
+            gap,
+            before: r.lo,
+            after: r.hi,
+            value: r.hi,
+            changes: changes(&r.from.structure, &r.to.structure),
+            between: Vec::new(),
+            resolved: r.resolved,
+            estimated: r.from.estimated > 0 || r.to.estimated > 0,
+            before_sample: Box::new(r.from),
+            after_sample: Box::new(r.to),
         })
-        .collect()
+        .collect();
+    join(single)
+}
+
+/// Transitions in order of value, with those that touch (one's `after` is
+/// the next one's `before`, both resolved) joined into one: the floats where
+/// they touch carry structures of their own ([`Transition::between`]). This
+/// also joins across sample gaps, where a sample falls on a transition.
+pub fn join(transitions: Vec<Transition>) -> Vec<Transition> {
+    let mut out: Vec<Transition> = Vec::new();
+    for t in transitions {
+        let Some(prev) = out.last_mut().filter(|p| p.resolved && t.resolved && p.after == t.before) else {
+            out.push(t);
+            continue;
+        };
+        let from = &prev.before_sample.structure;
+        let mut between = std::mem::take(&mut prev.between);
+        between.push(PointStructure {
+            value: prev.after,
+            changes: changes(from, &prev.after_sample.structure),
+            sample: prev.after_sample.clone(),
+        });
+        between
+            .extend(t.between.into_iter().map(|p| PointStructure { changes: changes(from, &p.sample.structure), ..p }));
+        prev.after = t.after;
+        prev.changes = changes(from, &t.after_sample.structure);
+        prev.between = between;
+        prev.estimated |= t.estimated;
+        prev.after_sample = t.after_sample;
+    }
+    out
 }
 
 #[cfg(test)]
