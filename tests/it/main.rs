@@ -13,5 +13,6 @@ mod motion;
 mod perf;
 mod recognition;
 mod scene_parse;
+mod sweep;
 mod trust;
 mod tui;
