@@ -995,8 +995,7 @@ impl SweepReport {
             let _ = writeln!(o, "Input bar {bar}: turns = components along which it turns fully / components");
         }
         let _ = writeln!(o);
-        let _ = writeln!(
-            o,
+        let header = format!(
             "{:>6} {:<11} {:<14} {:>5} {:>4} {:<8} {:<20}{}",
             "#",
             self.parameter,
@@ -1007,6 +1006,7 @@ impl SweepReport {
             "Cayley space",
             if self.input_bar.is_some() { " turns" } else { "" }
         );
+        let _ = writeln!(o, "{}", header.trim_end());
         for s in &self.samples {
             let sizes: Vec<String> = s.components.iter().map(|c| c.intervals.to_string()).collect();
             let pieces: Vec<String> =
@@ -1029,6 +1029,21 @@ impl SweepReport {
                 fit_list(&pieces, 20),
             );
             let _ = writeln!(o, "{}", line.trim_end());
+        }
+        // Why samples have no Cayley space: each reason once, with where it holds.
+        let mut reasons: Vec<(&str, Vec<usize>)> = Vec::new();
+        for s in &self.samples {
+            if let Some(r) = &s.reason {
+                match reasons.iter_mut().find(|(text, _)| text == r) {
+                    Some((_, at)) => at.push(s.index),
+                    None => reasons.push((r, vec![s.index])),
+                }
+            }
+        }
+        for (text, at) in &reasons {
+            let first = at[0];
+            let more = if at.len() > 1 { format!(" and {} more", at.len() - 1) } else { String::new() };
+            let _ = writeln!(o, "  sample {first}{more}: {text}");
         }
         o.push('\n');
         o.push_str(&self.chart());
