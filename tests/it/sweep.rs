@@ -230,3 +230,23 @@ proptest! {
         }
     }
 }
+
+#[test]
+fn a_sample_on_the_transition_still_gives_one_transition() {
+    // 6 samples from 0.5 to 3: sample 4 is AB = 2.5 itself, where two steps are
+    // flat at once; the brackets either side of it are one transition.
+    let setup = Setup {
+        scene: caymos::bundled::load("fourbar-crank-rocker").unwrap(),
+        parameter: Parameter::BarLength(0),
+        base: None,
+        input: None,
+    };
+    let (samples, transitions) = sweep(&setup, 0.5, 3.0, 6, Shard::ALL);
+    assert_eq!(samples[4].value, 2.5);
+    assert_eq!(samples[4].structure.branch_points, 2, "non-generic at 2.5: {:?}", samples[4].structure);
+    assert_eq!(transitions.len(), 1, "{transitions:#?}");
+    let t = &transitions[0];
+    assert_eq!(t.value, 2.5);
+    assert!(t.between.iter().any(|p| p.value == 2.5), "{t:#?}");
+    assert!(t.changes.contains(&Change::Components { from: 2, to: 1 }), "{:?}", t.changes);
+}
