@@ -536,8 +536,11 @@ pub fn locate(setup: &Setup, gap: usize, a: &SweepSample, b: &SweepSample) -> Ve
 /// structure met on the way splits the bracket in two (at most `splits` times).
 fn bisect(setup: &Setup, mut a: SweepSample, mut b: SweepSample, out: &mut Vec<Raw>, splits: &mut usize) {
     for _ in 0..MAX_BISECTIONS {
-        let mid = a.value + (b.value - a.value) / 2.0;
-        if mid <= a.value.min(b.value) || mid >= a.value.max(b.value) || !mid.is_finite() {
+        let mut mid = a.value + (b.value - a.value) / 2.0;
+        if !mid.is_finite() {
+            mid = a.value / 2.0 + b.value / 2.0; // the difference overflowed
+        }
+        if mid <= a.value.min(b.value) || mid >= a.value.max(b.value) {
             out.push(Raw { lo: a.value, hi: b.value, from: a, to: b, resolved: true });
             return;
         }
