@@ -17,6 +17,8 @@ use crate::motion::{
 use crate::numfmt::fmt_num;
 use crate::present::{self, ComponentNo, Names};
 use crate::realize::{Point2, Realization};
+use crate::scene::Scene;
+use crate::sweep::{self, Change, ClassKind, InputBar, MAX_STEPS, Parameter, Setup, SweepSample, Transition, Turn};
 use crate::tolerance;
 
 /// How finely and how far a command walks: the geometric step (largest joint
@@ -648,4 +650,524 @@ pub fn svg(title: &str, linkage: &Linkage, s: &Solved, segments: Vec<Segment>, j
 
 fn xml_escape(s: &str) -> String {
     s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;").replace('"', "&quot;")
+}
+
+// ---------------------------------------------------------------------------
+// sweep
+
+/// `--shard I/N`: this process takes the samples whose index is ≡ I − 1 (mod N).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, JsonSchema)]
+pub struct Shard {
+    /// I, from 1.
+    pub index: usize,
+    /// N.
+    pub count: usize,
+}
+
+impl Shard {
+    /// The whole sweep.
+    pub const ALL: Shard = Shard { index: 1, count: 1 };
+
+    /// `I/N` with 1 ≤ I ≤ N.
+    pub fn parse(text: &str) -> Result<Shard, String> {
+        let bad = || format!("--shard {text}: give I/N with 1 ≤ I ≤ N, e.g. --shard 2/8");
+        let (i, n) = text.split_once('/').ok_or_else(bad)?;
+        let (index, count) =
+            (i.trim().parse::<usize>().map_err(|_| bad())?, n.trim().parse::<usize>().map_err(|_| bad())?);
+        if index == 0 || count == 0 || index > count {
+            return Err(bad());
+        }
+        Ok(Shard { index, count })
+    }
+
+    /// Whether sample `i` (from 0) is this shard's.
+    pub fn owns(self, i: usize) -> bool {
+        i % self.count == self.index - 1
+    }
+}
+
+/// `--bar A,B` or `--joint C.x` → the parameter, checked against the scene.
+pub fn sweep_parameter(scene: &Scene, bar: Option<&str>, joint: Option<&str>) -> Result<Parameter, String> {
+    match (bar, joint) {
+        (Some(text), None) => find_bar(scene, text, "--bar").map(Parameter::BarLength),
+        (None, Some(text)) => {
+            let bad = |m: String| format!("--joint {text}: {m}");
+            let (name, axis) = text
+                .rsplit_once('.')
+                .ok_or_else(|| bad("give a joint and a coordinate, e.g. --joint C.x or --joint C.y".into()))?;
+            let axis = match axis.trim() {
+                "x" => 0,
+                "y" => 1,
+                other => return Err(bad(format!("no coordinate \"{other}\": use x or y"))),
+            };
+            let joint = scene
+                .joint_index(name.trim())
+                .ok_or_else(|| bad(format!("no joint named \"{}\" in {}", name.trim(), scene.source)))?;
+            Ok(Parameter::Joint { joint, axis })
+        }
+        _ => Err("give what to sweep: --bar A,B (a bar's length) or --joint C.x (a joint coordinate)".into()),
+    }
+}
+
+/// The bar `A,B` (either order) of the scene, by index.
+fn find_bar(scene: &Scene, text: &str, flag: &str) -> Result<usize, String> {
+    let bad = |m: String| format!("{flag} {text}: {m}");
+    let names: Vec<&str> = text.split(',').map(str::trim).collect();
+    let [a, b] = names[..] else {
+        return Err(bad("give two joint names separated by a comma, e.g. A,B".into()));
+    };
+    let find = |n: &str| scene.joint_index(n).ok_or_else(|| bad(format!("no joint named \"{n}\" in {}", scene.source)));
+    let (a, b) = (find(a)?, find(b)?);
+    scene.bars.iter().position(|bar| bar.joints == [a, b] || bar.joints == [b, a]).ok_or_else(|| {
+        bad(format!("no bar joins {} and {} in {}", scene.joints[a].name, scene.joints[b].name, scene.source))
+    })
+}
+
+/// `--input-bar C,D`: a bar with exactly one ground joint (the pivot).
+pub fn sweep_input_bar(scene: &Scene, text: &str) -> Result<InputBar, String> {
+    let bar = scene.bars[find_bar(scene, text, "--input-bar")?].joints;
+    let ground = |j: usize| scene.ground.contains(&j);
+    match (ground(bar[0]), ground(bar[1])) {
+        (true, false) => Ok(InputBar { pivot: bar[0], tip: bar[1] }),
+        (false, true) => Ok(InputBar { pivot: bar[1], tip: bar[0] }),
+        (true, true) => Err(format!("--input-bar {text}: both joints are ground joints: it is the ground link")),
+        (false, false) => {
+            let names: Vec<&str> = scene.ground.iter().map(|&g| scene.joints[g].name.as_str()).collect();
+            Err(format!("--input-bar {text}: neither joint is a ground joint (ground: {})", names.join(", ")))
+        }
+    }
+}
+
+/// The range and sample count, checked: finite, from < to, 2 ≤ steps ≤ [`MAX_STEPS`],
+/// and a length range above zero.
+pub fn check_sweep_range(parameter: Parameter, from: f64, to: f64, steps: usize) -> Result<(), String> {
+    if !from.is_finite() || !to.is_finite() {
+        return Err(format!("--from {from} --to {to}: give finite numbers"));
+    }
+    if from >= to {
+        return Err(format!("--from {from} must be below --to {to}"));
+    }
+    if matches!(parameter, Parameter::BarLength(_)) && from <= 0.0 {
+        return Err(format!("--from {from}: a bar length must be positive"));
+    }
+    if !(2..=MAX_STEPS).contains(&steps) {
+        return Err(format!(
+            "--steps {steps}: give 2 to {MAX_STEPS} samples (a bounded cost; a long sweep can be split with --shard I/N)"
+        ));
+    }
+    Ok(())
+}
+
+/// `caymos sweep --format json`: every sample and every transition of this shard.
+#[derive(Debug, Clone, Serialize, JsonSchema)]
+pub struct SweepReport {
+    /// The scene's name.
+    pub scene: String,
+    /// What varies, e.g. `A–B` (a bar's length) or `C.x`.
+    pub parameter: String,
+    pub parameter_kind: ParameterKind,
+    pub from: f64,
+    pub to: f64,
+    /// Samples in the whole sweep (evenly spaced, both ends included).
+    pub steps: usize,
+    pub shard: Shard,
+    /// The input bar `pivot–tip`, if one was given.
+    pub input_bar: Option<String>,
+    /// This shard's samples, by index.
+    pub samples: Vec<SweepSampleOut>,
+    /// The transitions in this shard's sample gaps (gap i lies between samples i and i + 1), in order.
+    pub transitions: Vec<TransitionOut>,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, JsonSchema)]
+#[serde(rename_all = "snake_case")]
+pub enum ParameterKind {
+    BarLength,
+    JointX,
+    JointY,
+}
+
+#[derive(Debug, Clone, Serialize, JsonSchema)]
+pub struct SweepSampleOut {
+    /// Sample index, from 0.
+    pub index: usize,
+    pub value: f64,
+    pub class: ClassKind,
+    /// Why there is no Cayley space, in words (`null` when solved).
+    pub reason: Option<String>,
+    /// The non-oriented Cayley space: disjoint λ-intervals.
+    pub cayley_space: Vec<[f64; 2]>,
+    pub oriented_intervals: usize,
+    pub components: Vec<ComponentSizeOut>,
+    /// Only the drawn component was computed (a scene above 2^16 types).
+    pub lazy: bool,
+    /// Decisions of the analysis resting on a double-double estimate, not a proof.
+    pub estimated_decisions: usize,
+}
+
+#[derive(Debug, Clone, Serialize, JsonSchema)]
+pub struct ComponentSizeOut {
+    /// Oriented intervals in the component.
+    pub intervals: usize,
+    /// λ travelled once around it.
+    pub lambda_length: f64,
+    pub lambda_range: [f64; 2],
+    /// Whether the input bar turns fully along it (`null` without `--input-bar`).
+    pub input_turn: Option<Turn>,
+}
+
+#[derive(Debug, Clone, Serialize, JsonSchema)]
+pub struct TransitionOut {
+    /// Between samples `gap` and `gap + 1`.
+    pub gap: usize,
+    /// The first float whose structure differs from the one before.
+    pub value: f64,
+    /// The last float with the structure before.
+    pub before: f64,
+    /// The first float with the structure after.
+    pub after: f64,
+    pub changes: Vec<Change>,
+    /// The changes in words.
+    pub label: String,
+    /// Structures met on single floats inside the bracket (non-generic places).
+    pub between: Vec<PointOut>,
+    /// The bracket reached adjacent floats.
+    pub resolved: bool,
+    /// A sample in the bracket rests on estimated decisions, not proven ones.
+    pub estimated: bool,
+}
+
+#[derive(Debug, Clone, Serialize, JsonSchema)]
+pub struct PointOut {
+    pub value: f64,
+    /// How it differs from the structure before the transition.
+    pub changes: Vec<Change>,
+    pub label: String,
+    pub components: usize,
+    pub branch_points: usize,
+    /// Its analysis rests on estimated decisions, not proven ones.
+    pub estimated: bool,
+}
+
+fn sample_out(index: usize, s: &SweepSample, linkage: &Linkage) -> SweepSampleOut {
+    SweepSampleOut {
+        index,
+        value: s.value,
+        class: s.class.kind(),
+        reason: present::sweep_reason(&s.class, linkage),
+        cayley_space: s.union.clone(),
+        oriented_intervals: s.oriented_intervals,
+        components: s
+            .components
+            .iter()
+            .map(|c| ComponentSizeOut {
+                intervals: c.intervals,
+                lambda_length: c.lambda_length,
+                lambda_range: c.lambda_range,
+                input_turn: c.turn,
+            })
+            .collect(),
+        lazy: s.lazy,
+        estimated_decisions: s.estimated,
+    }
+}
+
+fn transition_out(t: &Transition) -> TransitionOut {
+    TransitionOut {
+        gap: t.gap,
+        value: t.value,
+        before: t.before,
+        after: t.after,
+        changes: t.changes.clone(),
+        label: present::sweep_changes(&t.changes),
+        between: t
+            .between
+            .iter()
+            .map(|p| PointOut {
+                value: p.value,
+                changes: p.changes.clone(),
+                label: present::sweep_changes(&p.changes),
+                components: p.sample.components.len(),
+                branch_points: p.sample.structure.branch_points,
+                estimated: p.sample.estimated > 0,
+            })
+            .collect(),
+        resolved: t.resolved,
+        estimated: t.estimated,
+    }
+}
+
+/// Sweep `setup` over `steps` evenly spaced values from `from` to `to`
+/// (checked by [`check_sweep_range`]), keeping this shard's samples and
+/// the transitions in their gaps. Samples and gaps are computed in
+/// parallel (rayon: each is an independent analysis).
+pub fn sweep(setup: &Setup, from: f64, to: f64, steps: usize, shard: Shard) -> (Vec<SweepSample>, Vec<Transition>) {
+    use rayon::prelude::*;
+    let own: Vec<usize> = (0..steps).filter(|&i| shard.owns(i)).collect();
+    // Every gap's right end too, computed once.
+    let mut needed: Vec<usize> = own.iter().flat_map(|&i| [i, i + 1]).filter(|&i| i < steps).collect();
+    needed.dedup();
+    let samples: Vec<SweepSample> =
+        needed.par_iter().map(|&i| sweep::sample(setup, sweep::sample_value(from, to, i, steps))).collect();
+    let at = |i: usize| &samples[needed.binary_search(&i).expect("computed")];
+    let transitions: Vec<Transition> = own
+        .par_iter()
+        .filter(|&&i| i + 1 < steps)
+        .flat_map_iter(|&i| sweep::locate(setup, i, at(i), at(i + 1)))
+        .collect();
+    // A sample on a transition's point structure: the brackets either side are one transition.
+    let transitions = sweep::join(transitions);
+    let kept = own.iter().map(|&i| at(i).clone()).collect();
+    (kept, transitions)
+}
+
+/// The sweep as a report (this shard's samples and transitions).
+pub fn sweep_report(setup: &Setup, from: f64, to: f64, steps: usize, shard: Shard) -> SweepReport {
+    let (samples, transitions) = sweep(setup, from, to, steps, shard);
+    let linkage = Linkage::from_scene(&setup.scene);
+    let scene = &setup.scene;
+    let (parameter, parameter_kind) = match setup.parameter {
+        Parameter::BarLength(i) => (linkage.pair_name(scene.bars[i].joints), ParameterKind::BarLength),
+        Parameter::Joint { joint, axis } => (
+            format!("{}.{}", scene.joints[joint].name, if axis == 0 { "x" } else { "y" }),
+            if axis == 0 { ParameterKind::JointX } else { ParameterKind::JointY },
+        ),
+    };
+    let indices: Vec<usize> = (0..steps).filter(|&i| shard.owns(i)).collect();
+    SweepReport {
+        scene: scene.name.clone(),
+        parameter,
+        parameter_kind,
+        from,
+        to,
+        steps,
+        shard,
+        input_bar: setup.input.map(|b| linkage.pair_name([b.pivot, b.tip])),
+        samples: indices.iter().zip(&samples).map(|(&i, s)| sample_out(i, s, &linkage)).collect(),
+        transitions: transitions.iter().map(transition_out).collect(),
+    }
+}
+
+/// Width of the sweep's text output (a terminal's 80 columns).
+const SWEEP_TEXT_WIDTH: usize = 80;
+
+/// `text` if it fits `width`, else its first `keep` items joined and "+N"
+/// for the rest (so a cut cell says so).
+fn fit_list(items: &[String], width: usize) -> String {
+    let all = items.join(",");
+    if all.chars().count() <= width {
+        return all;
+    }
+    let mut shown = String::new();
+    for (k, item) in items.iter().enumerate() {
+        let rest = format!(" +{}", items.len() - k);
+        let next = if shown.is_empty() { item.clone() } else { format!("{shown},{item}") };
+        if next.chars().count() + format!(" +{}", items.len() - k - 1).len() > width {
+            return format!("{shown}{rest}");
+        }
+        shown = next;
+    }
+    shown
+}
+
+impl SweepReport {
+    /// The table of samples, the chart of components over the parameter with
+    /// the transitions marked, and the transitions in words (80 columns).
+    pub fn to_text(&self) -> String {
+        let mut o = String::new();
+        let shard = if self.shard.count > 1 {
+            format!(", shard {}/{} ({} samples)", self.shard.index, self.shard.count, self.samples.len())
+        } else {
+            String::new()
+        };
+        let what = match self.parameter_kind {
+            ParameterKind::BarLength => format!("bar {} length", self.parameter),
+            _ => format!("joint coordinate {}", self.parameter),
+        };
+        let _ = writeln!(
+            o,
+            "Sweep of {what} from {} to {}: {} samples{shard}",
+            present::sig(self.from),
+            present::sig(self.to),
+            self.steps
+        );
+        if let Some(bar) = &self.input_bar {
+            let _ = writeln!(o, "Input bar {bar}: turns = components along which it turns fully / components");
+        }
+        let _ = writeln!(o);
+        let header = format!(
+            "{:>6} {:<11} {:<14} {:>5} {:>4} {:<8} {:<20}{}",
+            "#",
+            self.parameter,
+            "class",
+            "comps",
+            "ivs",
+            "sizes",
+            "Cayley space",
+            if self.input_bar.is_some() { " turns" } else { "" }
+        );
+        let _ = writeln!(o, "{}", header.trim_end());
+        for s in &self.samples {
+            let sizes: Vec<String> = s.components.iter().map(|c| c.intervals.to_string()).collect();
+            let pieces: Vec<String> =
+                s.cayley_space.iter().map(|[a, b]| format!("[{}, {}]", fmt_num(*a), fmt_num(*b))).collect();
+            let turns = if self.input_bar.is_some() {
+                let full = s.components.iter().filter(|c| c.input_turn == Some(Turn::Full)).count();
+                let unknown = s.components.iter().any(|c| c.input_turn == Some(Turn::Unknown));
+                format!(" {full}/{}{}", s.components.len(), if unknown { "?" } else { "" })
+            } else {
+                String::new()
+            };
+            let line = format!(
+                "{:>6} {:<11} {:<14} {:>5} {:>4} {:<8} {:<20}{turns}",
+                s.index,
+                fmt_num(s.value),
+                present::sweep_class(s.class),
+                s.components.len(),
+                s.oriented_intervals,
+                fit_list(&sizes, 8),
+                fit_list(&pieces, 20),
+            );
+            let _ = writeln!(o, "{}", line.trim_end());
+        }
+        // Why samples have no Cayley space: each reason once, with where it holds.
+        let mut reasons: Vec<(&str, Vec<usize>)> = Vec::new();
+        for s in &self.samples {
+            if let Some(r) = &s.reason {
+                match reasons.iter_mut().find(|(text, _)| text == r) {
+                    Some((_, at)) => at.push(s.index),
+                    None => reasons.push((r, vec![s.index])),
+                }
+            }
+        }
+        for (text, at) in &reasons {
+            let first = at[0];
+            let more = if at.len() > 1 { format!(" and {} more", at.len() - 1) } else { String::new() };
+            let _ = writeln!(o, "  sample {first}{more}: {text}");
+        }
+        o.push('\n');
+        o.push_str(&self.chart());
+        if self.transitions.is_empty() {
+            let _ = writeln!(
+                o,
+                "\nNo transition: the structure is the same at every sample (a change that comes and goes between two samples is not seen; --steps raises the resolution)."
+            );
+        } else {
+            let _ = writeln!(o, "\nTransitions ({}), each to adjacent floats:", self.transitions.len());
+        }
+        for (k, t) in self.transitions.iter().enumerate() {
+            let _ = writeln!(
+                o,
+                "  {}. {} = {}: {}",
+                k + 1,
+                self.parameter,
+                present::sig(t.value),
+                present::sweep_changes(&t.changes)
+            );
+            let _ = writeln!(
+                o,
+                "     bracket [{}, {}] (between samples {} and {}){}{}",
+                present::sig(t.before),
+                present::sig(t.after),
+                t.gap,
+                t.gap + 1,
+                if t.resolved { "" } else { ", not resolved to adjacent floats" },
+                if t.estimated { ", rests on estimated decisions" } else { "" }
+            );
+            for p in &t.between {
+                let label =
+                    if p.changes.is_empty() { "the structure before, again".to_string() } else { p.label.clone() };
+                let estimated = if p.estimated { " (on estimated decisions)" } else { "" };
+                let _ = writeln!(o, "     at {} only: {label}{estimated}", present::sig(p.value));
+            }
+        }
+        let mut wrapped = String::new();
+        for line in o.lines() {
+            wrapped.push_str(&wrap_line(line, SWEEP_TEXT_WIDTH));
+        }
+        wrapped
+    }
+
+    /// Components over the parameter: one column per stretch of the range
+    /// (the nearest sample's count), transitions marked `^` below.
+    fn chart(&self) -> String {
+        let mut o = String::new();
+        let Some(max) = self.samples.iter().map(|s| s.components.len()).max() else {
+            return o;
+        };
+        let margin = 6;
+        let cols = (SWEEP_TEXT_WIDTH - margin - 1).min(self.samples.len().max(2) * 8).max(2);
+        let (lo, hi) = (self.from, self.to);
+        let col_of =
+            |v: f64| (((v - lo) / (hi - lo)) * (cols - 1) as f64).round().clamp(0.0, (cols - 1) as f64) as usize;
+        let counts: Vec<Option<(usize, ClassKind)>> = (0..cols)
+            .map(|c| {
+                let v = lo + (hi - lo) * c as f64 / (cols - 1) as f64;
+                let nearest = self.samples.iter().min_by(|a, b| (a.value - v).abs().total_cmp(&(b.value - v).abs()));
+                nearest.map(|s| (s.components.len(), s.class))
+            })
+            .collect();
+        let _ = writeln!(o, "Components over {} (█: that many components; x: no Cayley space):", self.parameter);
+        for row in (1..=max.max(1)).rev() {
+            let line: String = counts
+                .iter()
+                .map(|c| match c {
+                    Some((n, _)) if *n >= row => '█',
+                    _ => ' ',
+                })
+                .collect();
+            let _ = writeln!(o, "{row:>5} |{}", line.trim_end());
+        }
+        let bottom: String = counts
+            .iter()
+            .map(|c| match c {
+                Some((_, ClassKind::Solved)) | None => '─',
+                Some(_) => 'x',
+            })
+            .collect();
+        let _ = writeln!(o, "{:>5} +{bottom}", 0);
+        let mut marks = vec![' '; cols];
+        for (k, t) in self.transitions.iter().enumerate() {
+            let c = col_of(t.value);
+            marks[c] = if marks[c] == ' ' && k < 9 { char::from_digit(k as u32 + 1, 10).unwrap_or('^') } else { '^' };
+        }
+        if !self.transitions.is_empty() {
+            let line: String = marks.iter().collect();
+            let _ = writeln!(o, "{:>5}  {}", "", line.trim_end());
+        }
+        let (a, b) = (fmt_num(lo), fmt_num(hi));
+        let pad = (cols + 1).saturating_sub(a.len() + b.len());
+        let _ = writeln!(o, "{:>5}  {a}{}{b}", "", " ".repeat(pad.saturating_sub(1)));
+        if !self.transitions.is_empty() {
+            let _ = writeln!(o, "       (digits: the transitions listed below, by number)");
+        }
+        o
+    }
+}
+
+/// One line broken at spaces to at most `width` columns (continuations
+/// indented), ending in a newline: nothing is cut.
+fn wrap_line(line: &str, width: usize) -> String {
+    if line.chars().count() <= width {
+        return format!("{line}\n");
+    }
+    let lead = line.len() - line.trim_start().len();
+    let mut out = String::new();
+    let mut current = line[..lead].to_string();
+    let mut start = lead;
+    for word in line.trim_start().split(' ') {
+        let len = current.chars().count();
+        if len > start && len + 1 + word.chars().count() > width {
+            out.push_str(current.trim_end());
+            out.push('\n');
+            current = " ".repeat(lead + 2);
+            start = lead + 2;
+        } else if len > start {
+            current.push(' ');
+        }
+        current.push_str(word);
+    }
+    out.push_str(&current);
+    out.push('\n');
+    out
 }

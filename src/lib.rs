@@ -6,7 +6,7 @@
 //! are the ones that print, time, generate or draw.
 pub use caymos_core::{
     analysis, cayley_space, cayley_vector, certify, complexity, decompose, distance, enclosure, interval, invert, lazy,
-    linkage, minimal_vector, motion, numfmt, real, realize, roots, scene, tolerance,
+    linkage, minimal_vector, motion, numfmt, real, realize, roots, scene, sweep, tolerance,
 };
 
 pub mod bench;

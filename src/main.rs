@@ -198,6 +198,38 @@ enum Command {
         #[command(flatten)]
         analysis: AnalysisArgs,
     },
+    /// How the analysis changes as one bar's length (or a joint coordinate)
+    /// varies: per sample the Cayley space, components and their sizes, and
+    /// the exact values where the structure changes.
+    Sweep {
+        scene: Option<String>,
+        /// The bar whose length varies, e.g. `A,B`.
+        #[arg(long, conflicts_with = "joint", required_unless_present = "joint")]
+        bar: Option<String>,
+        /// The joint coordinate that varies instead, e.g. `C.x` or `C.y`.
+        #[arg(long)]
+        joint: Option<String>,
+        /// The first value.
+        #[arg(long, allow_hyphen_values = true)]
+        from: f64,
+        /// The last value (above --from).
+        #[arg(long, allow_hyphen_values = true)]
+        to: f64,
+        /// Evenly spaced samples, both ends included (2 to 100000).
+        #[arg(long, default_value_t = 64)]
+        steps: usize,
+        /// A bar with a ground joint: per component, whether it turns fully.
+        #[arg(long)]
+        input_bar: Option<String>,
+        /// Take only the samples whose index is ≡ I − 1 (mod N), and the transitions after them.
+        #[arg(long, default_value = "1/1")]
+        shard: String,
+        /// The base non-edge as two joint names (default: the scene's, else the one chosen).
+        #[arg(long)]
+        base: Option<String>,
+        #[arg(long, value_enum, default_value = "text")]
+        format: Format,
+    },
     /// Speed against error: every method's time and error against the double-double reference.
     Bench {
         /// Scene files, bundled names or hard cases (`hard:sliver`, …); default: all bundled scenes and hard cases.
@@ -453,6 +485,21 @@ fn run(command: Command) -> Result<u8, Failure> {
                         emit(&format!("  note: {note}\n"));
                     }
                 }
+            }
+            Ok(0)
+        }
+        Command::Sweep { scene, bar, joint, from, to, steps, input_bar, shard, base, format } => {
+            let scene = bundled::resolve(scene.as_deref())?;
+            let base = base.map(|b| parse_base(&scene, &b)).transpose()?;
+            let parameter = commands::sweep_parameter(&scene, bar.as_deref(), joint.as_deref()).map_err(arg_error)?;
+            commands::check_sweep_range(parameter, from, to, steps).map_err(arg_error)?;
+            let shard = commands::Shard::parse(&shard).map_err(arg_error)?;
+            let input = input_bar.map(|b| commands::sweep_input_bar(&scene, &b)).transpose().map_err(arg_error)?;
+            let setup = caymos::sweep::Setup { scene, parameter, base, input };
+            let report = commands::sweep_report(&setup, from, to, steps, shard);
+            match format {
+                Format::Json => emit(&format!("{}\n", Versioned::new(&report).to_json())),
+                Format::Text => emit(&report.to_text()),
             }
             Ok(0)
         }

@@ -463,3 +463,57 @@ pub fn svg_cut_note(joints: usize) -> String {
         crate::tolerance::SVG_MAX_POINTS
     )
 }
+
+/// A sweep sample's class in a word or two.
+pub fn sweep_class(k: crate::sweep::ClassKind) -> &'static str {
+    use crate::sweep::ClassKind;
+    match k {
+        ClassKind::Solved => "solved",
+        ClassKind::NoRealization => "no realization",
+        ClassKind::Outside => "outside",
+        ClassKind::Invalid => "invalid",
+    }
+}
+
+/// Why a sweep sample has no Cayley space, in words (`None` when it has one).
+pub fn sweep_reason(class: &crate::sweep::Class, linkage: &Linkage) -> Option<String> {
+    use crate::sweep::Class;
+    match class {
+        Class::Solved => None,
+        Class::NoRealization => Some("in the class, but the linkage cannot close: no realization".into()),
+        Class::Outside(o) => Some(format!("outside the handled class: {}", outside(o, linkage))),
+        Class::Invalid(message) => Some(message.clone()),
+    }
+}
+
+/// One change of a sweep's structure, e.g. "components 2 → 1".
+pub fn sweep_change(c: &crate::sweep::Change) -> String {
+    use crate::sweep::Change;
+    let counts = |v: &[usize]| v.iter().map(usize::to_string).collect::<Vec<_>>().join(",");
+    match c {
+        Change::Class { from, to } => format!("class {} → {}", sweep_class(*from), sweep_class(*to)),
+        Change::Components { from, to } => format!("components {from} → {to}"),
+        Change::ComponentSizes { from, to } => {
+            format!("component sizes (intervals) {} → {}", counts(from), counts(to))
+        }
+        Change::Intervals { from, to } if to > from => format!("interval born: oriented intervals {from} → {to}"),
+        Change::Intervals { from, to } => format!("interval dies: oriented intervals {from} → {to}"),
+        Change::UnionParts { from, to } => format!("Cayley space pieces {from} → {to}"),
+        Change::EventsMeet { events } => {
+            let e: Vec<String> =
+                events.iter().map(|e| format!("step {} {}", StepNo::of_index(e.step), e.kind.name())).collect();
+            format!("events meet ({})", e.join(", "))
+        }
+        Change::BranchPoints { from, to } => format!("branch points {from} → {to}"),
+        Change::FullTurns { from, to } => format!("input bar turns fully in {from} → {to} components"),
+        Change::TurnsUndecided => "the input bar's turning is undecided on one side".into(),
+    }
+}
+
+/// All changes of a transition in one line ("no net change" when none).
+pub fn sweep_changes(changes: &[crate::sweep::Change]) -> String {
+    if changes.is_empty() {
+        return "no net change".into();
+    }
+    changes.iter().map(sweep_change).collect::<Vec<_>>().join("; ")
+}

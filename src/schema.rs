@@ -95,6 +95,7 @@ pub const SCHEMAS: &[(&str, MakeSchema)] = &[
     ("bench", || schema_for!(Versioned<crate::bench::BenchReport>)),
     ("list", || schema_for!(Versioned<ListDoc>)),
     ("graph", || schema_for!(Versioned<crate::graph::GraphReport>)),
+    ("sweep", || schema_for!(Versioned<crate::commands::SweepReport>)),
     ("error", || schema_for!(Versioned<ErrorDoc>)),
 ];
 

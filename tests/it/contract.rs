@@ -129,6 +129,57 @@ fn path_closest_bench_and_list_validate() {
 }
 
 #[test]
+fn sweep_validates() {
+    // Bar and joint sweeps, with a shard, an input bar, and samples where the linkage cannot close.
+    for args in [
+        vec!["--bar", "A,B", "--from", "0.5", "--to", "3", "--input-bar", "A,B", "--steps", "8"],
+        vec!["--bar", "B,C", "--from", "0.5", "--to", "12", "--steps", "12", "--shard", "2/3"],
+        vec!["--joint", "C.x", "--from", "-2", "--to", "6", "--steps", "6"],
+    ] {
+        let out = caymos(&[&["sweep", "fourbar-crank-rocker", "--format", "json"][..], &args[..]].concat());
+        assert_eq!(out.status.code(), Some(0), "{args:?}: {}", stderr(&out));
+        let doc = json(&out);
+        validate("sweep", &doc);
+        assert!(!doc["samples"].as_array().unwrap().is_empty(), "{args:?}");
+    }
+    let doc = json(&caymos(&[
+        "sweep",
+        "fourbar-crank-rocker",
+        "--bar",
+        "B,C",
+        "--from",
+        "0.5",
+        "--to",
+        "12",
+        "--steps",
+        "12",
+        "--format",
+        "json",
+    ]));
+    let classes: Vec<&str> = doc["samples"].as_array().unwrap().iter().map(|s| s["class"].as_str().unwrap()).collect();
+    assert!(classes.contains(&"solved") && classes.contains(&"no_realization"), "{classes:?}");
+    // A bad shard is an argument error, as JSON too.
+    let out = caymos(&[
+        "sweep",
+        "fourbar-crank-rocker",
+        "--bar",
+        "A,B",
+        "--from",
+        "1",
+        "--to",
+        "2",
+        "--shard",
+        "0/1",
+        "--format",
+        "json",
+    ]);
+    assert_eq!(out.status.code(), Some(1));
+    let doc = json(&out);
+    validate("error", &doc);
+    assert_eq!(doc["error"]["kind"], "arguments");
+}
+
+#[test]
 fn errors_are_json_with_format_json() {
     let dir = scratch("contract-errors");
     let bad = write(&dir, "bad.toml", "bars = [[\"A\", \"B\"]]\n[joints]\nA = [0, 0]\nB = [1, \"x\"]\n");
@@ -191,7 +242,7 @@ fn markdown_report_is_a_job_summary() {
 
 #[test]
 fn schema_names_one_table() {
-    for name in ["report", "path", "closest", "bench", "graph", "list", "error"] {
+    for name in ["report", "path", "closest", "bench", "graph", "list", "error", "sweep"] {
         let schema: Value = serde_json::from_slice(&caymos(&["schema", name]).stdout).unwrap();
         assert_eq!(schema["properties"]["schema_version"]["const"], 1, "{name}");
     }

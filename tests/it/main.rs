@@ -14,5 +14,6 @@ mod motion;
 mod perf;
 mod recognition;
 mod scene_parse;
+mod sweep;
 mod trust;
 mod tui;

@@ -10,6 +10,7 @@
 //! joins intervals into components and paths; [`cayley_vector`](mod@cayley_vector) gives the
 //! complete Cayley distance vectors and [`minimal_vector`](mod@minimal_vector) the smallest
 //! sub-vector proven to separate; [`distance`] certifies the closest pair.
+//! [`sweep`] varies one number of the scene and locates where the structure changes.
 //! All tolerances live in [`tolerance`]; [`real`] and [`interval`] are the
 //! arithmetics (double-double, jets, balls, intervals).
 //! [`analysis`] runs it all, in f64 with a double-double self-check.
@@ -59,6 +60,7 @@ pub mod real;
 pub mod realize;
 pub mod roots;
 pub mod scene;
+pub mod sweep;
 pub mod tolerance;
 
 /// nalgebra, at the version whose [`Point2`] the positions are.
