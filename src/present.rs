@@ -31,15 +31,63 @@ pub fn full(x: f64) -> String {
     if x == 0.0 || (1e-4..1e15).contains(&x.abs()) { format!("{x}") } else { format!("{x:e}") }
 }
 
-/// A type for a text table: long ones (many steps) keep their ends.
+/// A type for a text table: up to [`TYPE_PLAIN`] signs as they are, up to
+/// [`TYPE_GROUPED`] in groups of five (`-----·-+---·--`), so a differing sign
+/// can be found by its position; longer ones keep their ends (see
+/// [`type_label`] to show them against a reference instead).
 pub fn short_type(ty: &str) -> String {
     let n = ty.chars().count();
-    if n <= 40 {
+    if n <= TYPE_PLAIN {
         return ty.to_string();
+    }
+    if n <= TYPE_GROUPED {
+        let signs: Vec<char> = ty.chars().collect();
+        return signs.chunks(5).map(|c| c.iter().collect::<String>()).collect::<Vec<_>>().join("·");
     }
     let head: String = ty.chars().take(16).collect();
     let tail: String = ty.chars().skip(n - 8).collect();
     format!("{head}…{tail} ({n} signs)")
+}
+
+/// Types up to this many signs are printed as they are.
+pub const TYPE_PLAIN: usize = 10;
+/// Types up to this many signs are printed in groups of five; longer ones
+/// against a reference type ([`type_label`]).
+pub const TYPE_GROUPED: usize = 40;
+/// At most this many differing signs are listed by [`type_label`].
+const TYPE_DIFFS_SHOWN: usize = 6;
+
+/// A type for people, given the drawn type as `reference`: short types as
+/// [`short_type`]; long ones as the steps (numbered from 1) whose sign
+/// differs from the reference, with their sign: `drawn` when none does,
+/// `drawn, 17+ 165-` otherwise (at most six listed, then `… (+N)`).
+pub fn type_label(ty: &str, reference: Option<&str>) -> String {
+    let n = ty.chars().count();
+    let Some(reference) = reference.filter(|r| n > TYPE_GROUPED && r.chars().count() == n) else {
+        return short_type(ty);
+    };
+    let diffs: Vec<String> = ty
+        .chars()
+        .zip(reference.chars())
+        .enumerate()
+        .filter(|(_, (a, b))| a != b)
+        .map(|(k, (a, _))| format!("{}{a}", k + 1))
+        .collect();
+    if diffs.is_empty() {
+        return "drawn".to_string();
+    }
+    let shown = diffs[..diffs.len().min(TYPE_DIFFS_SHOWN)].join(" ");
+    match diffs.len().checked_sub(TYPE_DIFFS_SHOWN).filter(|&m| m > 0) {
+        Some(more) => format!("drawn, {shown} … (+{more})"),
+        None => format!("drawn, {shown}"),
+    }
+}
+
+/// The sentence that says how [`type_label`] writes long types.
+pub fn type_label_legend(steps: usize) -> String {
+    format!(
+        "types of {steps} steps are written as the drawn type and the steps whose sign differs from it (17+: step 17 is +)"
+    )
 }
 
 /// `v ◁ (u, w)`: vertex `v` placed on `u` and `w` (a step without its number).

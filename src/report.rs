@@ -492,6 +492,10 @@ impl Report {
         }
         if let Some(d) = &self.drawn {
             let _ = writeln!(o, "{:<24}λ = {}  type {}", "Drawn realization", fmt_num(d.lambda), short_type(&d.ty));
+            let steps = d.ty.chars().count();
+            if steps > present::TYPE_GROUPED {
+                let _ = writeln!(o, "{:<24}{}", "", present::type_label_legend(steps));
+            }
         }
         if let Some(s) = &self.sketch {
             let moved = match s.max_joint_move {
@@ -593,12 +597,19 @@ impl Report {
         };
         let rows: Vec<[String; 5]> = shown
             .iter()
-            .map(|i| [short_type(&i.ty), fmt_num(i.lower), fmt_num(i.upper), ev(&i.lower_events), ev(&i.upper_events)])
+            .map(|i| {
+                [self.type_text(&i.ty), fmt_num(i.lower), fmt_num(i.upper), ev(&i.lower_events), ev(&i.upper_events)]
+            })
             .collect();
         write_table(o, &["type", "lower", "upper", "lower event", "upper event"], &rows);
         let _ = writeln!(o);
         self.write_chart(o, &shown);
         let _ = writeln!(o);
+    }
+
+    /// A type as the text tables write it: long ones against the drawn type.
+    fn type_text(&self, ty: &str) -> String {
+        present::type_label(ty, self.drawn.as_ref().map(|d| d.ty.as_str()))
     }
 
     fn write_components(&self, o: &mut String) {
@@ -618,11 +629,13 @@ impl Report {
             .iter()
             .map(|c| {
                 let types: Vec<String> =
-                    c.intervals.iter().map(|&i| short_type(&self.oriented_intervals[i].ty)).collect();
+                    c.intervals.iter().map(|&i| self.type_text(&self.oriented_intervals[i].ty)).collect();
+                // Labels of long types have spaces of their own.
+                let gap = if types.iter().any(|t| t.contains(' ')) { " | " } else { " " };
                 let shown = if types.len() > 6 {
-                    format!("{} … ({} more)", types[..6].join(" "), types.len() - 6)
+                    format!("{} … ({} more)", types[..6].join(gap), types.len() - 6)
                 } else {
-                    types.join(" ")
+                    types.join(gap)
                 };
                 [
                     format!("{}{}", c.component, if c.contains_drawn { " *" } else { "" }),
@@ -668,7 +681,7 @@ impl Report {
             }
             row.into_iter().collect::<String>()
         };
-        let label_width = shown.iter().map(|i| i.ty.chars().count()).max().unwrap_or(4).max(5);
+        let label_width = shown.iter().map(|i| self.type_text(&i.ty).chars().count()).max().unwrap_or(4).max(5);
         let left = fmt_num(lo);
         let right = fmt_num(hi);
         let pad = (WIDTH + 2).saturating_sub(left.len() + right.len());
@@ -682,7 +695,7 @@ impl Report {
             }
             seen.push(&i.ty);
             let row = bar(&mut shown.iter().filter(|j| j.ty == i.ty).map(|j| (j.lower, j.upper)));
-            let _ = writeln!(o, "  {:<label_width$} |{row}|", i.ty);
+            let _ = writeln!(o, "  {:<label_width$} |{row}|", self.type_text(&i.ty));
         }
     }
 
@@ -813,7 +826,7 @@ impl Report {
                 .iter()
                 .map(|i| {
                     [
-                        format!("`{}`", short_type(&i.ty)),
+                        format!("`{}`", self.type_text(&i.ty)),
                         fmt_num(i.lower),
                         fmt_num(i.upper),
                         ev(&i.lower_events),
