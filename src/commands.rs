@@ -470,28 +470,44 @@ pub fn parse_joints(linkage: &Linkage, list: Option<&str>) -> Result<Vec<usize>,
     }
 }
 
+/// The columns of a trace after `index,lambda,type,jump`.
+#[derive(Debug, Clone, Default)]
+pub struct TraceColumns {
+    /// Joints whose positions are written (`A.x,A.y`).
+    pub joints: Vec<usize>,
+    /// An input bar whose angle from the ground line is written in degrees
+    /// (`A-B.angle`, pivot first).
+    pub angle: Option<InputBar>,
+    /// Write the complete Cayley distance vector (columns named `A-B`).
+    pub cayley: bool,
+}
+
 /// CSV of the walk, written row by row to `out` (memory stays small however
 /// long the walk): `index,lambda,type,jump,A.x,A.y,...`; `jump` is 1 on a row
 /// that no continuous motion joins to the row before (see
-/// [`crate::motion::Sample::jump`]). With `cayley`, the complete Cayley
-/// distance vector follows (columns named `A-B`): the Cayley curve of the
-/// component or path. Numbers are written in full precision.
+/// [`crate::motion::Sample::jump`]). Then, as `columns` asks, the input bar's
+/// angle in degrees from the ground line (counter-clockwise, in (−180, 180];
+/// [`InputBar::angle`]) and the complete Cayley distance vector: the Cayley
+/// curve of the component or path. Numbers are written in full precision.
 pub fn trace_csv(
     linkage: &Linkage,
     s: &Solved,
     segments: Vec<Segment>,
-    joints: &[usize],
+    columns: &TraceColumns,
     walk: Walk,
-    cayley: bool,
     out: &mut dyn std::io::Write,
 ) -> std::io::Result<WalkSummary> {
+    let name = |j: usize| &linkage.names[j];
     let mut row = String::from("index,lambda,type,jump");
-    for &j in joints {
-        let _ = write!(row, ",{0}.x,{0}.y", linkage.names[j]);
+    for &j in &columns.joints {
+        let _ = write!(row, ",{0}.x,{0}.y", name(j));
     }
-    if cayley {
+    if let Some(bar) = columns.angle {
+        let _ = write!(row, ",{}-{}.angle", name(bar.pivot), name(bar.tip));
+    }
+    if columns.cayley {
         for &[p, q] in &s.complexity.ccv {
-            let _ = write!(row, ",{}-{}", linkage.names[p], linkage.names[q]);
+            let _ = write!(row, ",{}-{}", name(p), name(q));
         }
     }
     row.push('\n');
@@ -500,11 +516,14 @@ pub fn trace_csv(
     for (i, sample) in stepper.by_ref().enumerate() {
         row.clear();
         let _ = write!(row, "{i},{},{},{}", sample.lambda, sample.ty, u8::from(sample.jump));
-        for &j in joints {
+        for &j in &columns.joints {
             let p = sample.positions[j];
             let _ = write!(row, ",{},{}", p[0], p[1]);
         }
-        if cayley {
+        if let Some(bar) = columns.angle {
+            let _ = write!(row, ",{}", bar.angle(&sample.positions).to_degrees());
+        }
+        if columns.cayley {
             for d in crate::cayley_vector::cayley_vector(&sample.positions, &s.complexity.ccv) {
                 let _ = write!(row, ",{d}");
             }
@@ -723,19 +742,25 @@ fn find_bar(scene: &Scene, text: &str, flag: &str) -> Result<usize, String> {
     })
 }
 
-/// `--input-bar C,D`: a bar with exactly one ground joint (the pivot).
-pub fn sweep_input_bar(scene: &Scene, text: &str) -> Result<InputBar, String> {
-    let bar = scene.bars[find_bar(scene, text, "--input-bar")?].joints;
+/// `C,D` after `flag` (`--input-bar`, `--angle`): a bar with exactly one
+/// ground joint (the pivot), its angle measured from the line to the first
+/// other ground joint.
+pub fn input_bar(scene: &Scene, text: &str, flag: &str) -> Result<InputBar, String> {
+    let bar = scene.bars[find_bar(scene, text, flag)?].joints;
     let ground = |j: usize| scene.ground.contains(&j);
-    match (ground(bar[0]), ground(bar[1])) {
-        (true, false) => Ok(InputBar { pivot: bar[0], tip: bar[1] }),
-        (false, true) => Ok(InputBar { pivot: bar[1], tip: bar[0] }),
-        (true, true) => Err(format!("--input-bar {text}: both joints are ground joints: it is the ground link")),
+    let (pivot, tip) = match (ground(bar[0]), ground(bar[1])) {
+        (true, false) => (bar[0], bar[1]),
+        (false, true) => (bar[1], bar[0]),
+        (true, true) => return Err(format!("{flag} {text}: both joints are ground joints: it is the ground link")),
         (false, false) => {
             let names: Vec<&str> = scene.ground.iter().map(|&g| scene.joints[g].name.as_str()).collect();
-            Err(format!("--input-bar {text}: neither joint is a ground joint (ground: {})", names.join(", ")))
+            return Err(format!("{flag} {text}: neither joint is a ground joint (ground: {})", names.join(", ")));
         }
-    }
+    };
+    let reference = scene.ground.iter().copied().find(|&g| g != pivot).ok_or_else(|| {
+        format!("{flag} {text}: the scene has one ground joint, so no ground line to measure the angle from")
+    })?;
+    Ok(InputBar { pivot, tip, reference })
 }
 
 /// The range and sample count, checked: finite, from < to, 2 ≤ steps ≤ [`MAX_STEPS`],

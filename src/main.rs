@@ -174,6 +174,9 @@ enum Command {
         /// Joints to trace, e.g. `F,K` (default: all).
         #[arg(long)]
         joints: Option<String>,
+        /// Add the angle of bar `A,B` (one end a ground joint, the pivot) in degrees from the ground line: column `A-B.angle`.
+        #[arg(long)]
+        angle: Option<String>,
         /// Append the complete Cayley distance vector (the Cayley curve) to each row.
         #[arg(long)]
         cayley: bool,
@@ -445,8 +448,9 @@ fn run(command: Command) -> Result<u8, Failure> {
             note_all(present::lazy_note(s));
             Ok(0)
         }
-        Command::Trace { scene, component, from, to, arc, joints, cayley, output, analysis, walk } => {
+        Command::Trace { scene, component, from, to, arc, joints, angle, cayley, output, analysis, walk } => {
             let mut a = solved(scene.as_deref(), &analysis)?;
+            let angle = angle.map(|b| commands::input_bar(&a.scene, &b, "--angle")).transpose().map_err(arg_error)?;
             let walk = walk_options(&walk, &a)?;
             let (linkage, s) = parts(&mut a)?;
             commands::include_specs(s, &[from.as_deref().unwrap_or("drawn"), to.as_deref().unwrap_or("drawn")]);
@@ -457,8 +461,8 @@ fn run(command: Command) -> Result<u8, Failure> {
             let between = from.as_deref().zip(to.as_deref()).map(|(f, t)| (f, t, arc));
             let component = component.map(ComponentNo::index);
             let segments = commands::trace_segments(linkage, s, component, between).map_err(arg_error)?;
-            let summary =
-                write_streamed(output, |out| commands::trace_csv(linkage, s, segments, &joints, walk, cayley, out))?;
+            let columns = commands::TraceColumns { joints, angle, cayley };
+            let summary = write_streamed(output, |out| commands::trace_csv(linkage, s, segments, &columns, walk, out))?;
             note_all(present::lazy_note(s).into_iter().chain(present::walk_notes(&summary, walk.max_samples)));
             Ok(0)
         }
@@ -494,7 +498,8 @@ fn run(command: Command) -> Result<u8, Failure> {
             let parameter = commands::sweep_parameter(&scene, bar.as_deref(), joint.as_deref()).map_err(arg_error)?;
             commands::check_sweep_range(parameter, from, to, steps).map_err(arg_error)?;
             let shard = commands::Shard::parse(&shard).map_err(arg_error)?;
-            let input = input_bar.map(|b| commands::sweep_input_bar(&scene, &b)).transpose().map_err(arg_error)?;
+            let input =
+                input_bar.map(|b| commands::input_bar(&scene, &b, "--input-bar")).transpose().map_err(arg_error)?;
             let setup = caymos::sweep::Setup { scene, parameter, base, input };
             let report = commands::sweep_report(&setup, from, to, steps, shard);
             match format {

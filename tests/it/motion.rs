@@ -231,7 +231,8 @@ fn motion_commands_run_on_every_bundled_scene() {
         assert!(p.paths.iter().all(|p| p.complete && p.samples >= 1), "{}", b.name);
         let segs = commands::trace_segments(&a.linkage, &s, None, None).unwrap();
         let mut out = Vec::new();
-        let summary = commands::trace_csv(&a.linkage, &s, segs.clone(), &[0, 1], step, true, &mut out).unwrap();
+        let cols = commands::TraceColumns { joints: vec![0, 1], angle: None, cayley: true };
+        let summary = commands::trace_csv(&a.linkage, &s, segs.clone(), &cols, step, &mut out).unwrap();
         let csv = String::from_utf8(out).unwrap();
         let header = csv.lines().next().unwrap();
         assert!(header.starts_with("index,lambda,type,jump,") && header.contains(".y,"), "{header}");
@@ -246,4 +247,37 @@ fn motion_commands_run_on_every_bundled_scene() {
             assert!(c.lower_bound >= 0.0 && c.lower_bound <= c.distance, "{}", b.name);
         }
     }
+}
+
+/// `trace --angle A,B`: the crank's angle from the ground line A→D, checked
+/// against the traced positions, turns a full 360° around the crank-rocker's
+/// component; a bar without a ground joint is refused.
+#[test]
+fn trace_angle_column_is_the_crank_angle_from_the_ground_line() {
+    let out = caymos(&["trace", "fourbar-crank-rocker", "--joints", "A,B,D", "--angle", "A,B"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let csv = stdout(&out);
+    let mut lines = csv.lines();
+    assert_eq!(lines.next().unwrap(), "index,lambda,type,jump,A.x,A.y,B.x,B.y,D.x,D.y,A-B.angle");
+    let (mut total, mut last, mut rows) = (0.0f64, None::<f64>, 0);
+    for line in lines {
+        let v: Vec<f64> = line.split(',').skip(4).map(|x| x.parse().unwrap()).collect();
+        let (a, b, d, angle) = ([v[0], v[1]], [v[2], v[3]], [v[4], v[5]], v[6]);
+        let dir = |p: [f64; 2]| (p[1] - a[1]).atan2(p[0] - a[0]).to_degrees();
+        let want = (dir(b) - dir(d) + 540.0).rem_euclid(360.0) - 180.0;
+        let diff = (angle - want + 540.0).rem_euclid(360.0) - 180.0;
+        assert!(diff.abs() < 1e-9, "{angle} vs {want}");
+        assert!(angle > -180.0 && angle <= 180.0);
+        if let Some(prev) = last {
+            total += (angle - prev + 540.0f64).rem_euclid(360.0) - 180.0;
+        }
+        last = Some(angle);
+        rows += 1;
+    }
+    assert!(rows > 20);
+    // The walk returns to its start: one full turn of the crank.
+    assert!((total.abs() - 360.0).abs() < 10.0, "the crank turned {total}°");
+    let bad = caymos(&["trace", "fourbar-crank-rocker", "--angle", "B,C"]);
+    assert_eq!(bad.status.code(), Some(1));
+    assert!(stderr(&bad).contains("--angle B,C: neither joint is a ground joint"), "{}", stderr(&bad));
 }

@@ -192,7 +192,7 @@ proptest! {
             scene: caymos::generate::four_bar(1.0, b, c, d),
             parameter: Parameter::BarLength(0),
             base: None,
-            input: Some(InputBar { pivot: 0, tip: 1 }),
+            input: Some(InputBar { pivot: 0, tip: 1, reference: 3 }),
         };
         let (samples, transitions) = sweep(&setup, from, to, steps, Shard::ALL);
         prop_assert_eq!(samples.len(), steps);

@@ -74,13 +74,27 @@ pub fn apply(scene: &Scene, p: Parameter, value: f64) -> Scene {
     s
 }
 
-/// A bar driven as input: `pivot` is a ground joint, `tip` the other end.
+/// A bar driven as input: `pivot` is a ground joint, `tip` the other end,
+/// and its angle is measured from the ground line pivot → `reference`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct InputBar {
     /// The ground joint the bar turns about.
     pub pivot: usize,
     /// Its other joint.
     pub tip: usize,
+    /// Another ground joint: the ground line runs from the pivot to it.
+    pub reference: usize,
+}
+
+impl InputBar {
+    /// The bar's angle from the ground line in radians, in (−π, π],
+    /// counter-clockwise with y up: the direction pivot → tip less the
+    /// direction pivot → reference (two `atan2`, no product of lengths, so
+    /// any scale). The same in every frame a realization is drawn in.
+    pub fn angle(&self, pos: &[crate::realize::Point2<f64>]) -> f64 {
+        let direction = |j: usize| (pos[j][1] - pos[self.pivot][1]).atan2(pos[j][0] - pos[self.pivot][0]);
+        wrap(direction(self.tip) - direction(self.reference))
+    }
 }
 
 /// What a sweep holds fixed: the scene, the parameter, the base, the input bar.
@@ -416,7 +430,7 @@ fn summarise(value: f64, class: Class, linkage: &Linkage, s: &Solved, input: Opt
 }
 
 /// Whether `bar` turns fully once around component `c`: the winding number
-/// of its direction, summed over a walk whose joints move at most half the
+/// of its angle from the ground line, summed over a walk whose joints move at most half the
 /// bar's length per sample (so its angle changes by less than 30° between
 /// samples, and each increment is read without ambiguity). Unknown for an
 /// open component, a walk with a jump, or one cut by [`TURN_WALK_BUDGET`].
@@ -430,14 +444,12 @@ fn turn(linkage: &Linkage, s: &Solved, c: &crate::motion::Component, bar: InputB
     }
     let segments = component_segments(&s.space, c);
     let mut walk = Stepper::new(&s.construction, linkage, segments, 0.5 * length).with_budget(TURN_WALK_BUDGET);
-    let angle =
-        |p: &[crate::realize::Point2<f64>]| (p[bar.tip][1] - p[bar.pivot][1]).atan2(p[bar.tip][0] - p[bar.pivot][0]);
     let (mut first, mut last, mut total) = (None, None, 0.0f64);
     for sample in walk.by_ref() {
         if sample.jump {
             return Turn::Unknown;
         }
-        let a = angle(&sample.positions);
+        let a = bar.angle(&sample.positions);
         if let Some(prev) = last {
             total += wrap(a - prev);
         }
