@@ -2,7 +2,10 @@
 //! One realization, the full Cayley space of the Jansen leg, one component
 //! walk (exhaustive linking and the lazy walk), one trace; the full analysis
 //! (recognition → components, no self-check) of the small scenes, and the
-//! recognition and four-cycle test of a 5000-step chain.
+//! recognition and four-cycle test of a 5000-step chain; and issue 12's other
+//! target rows: the exact Cayley space against the classic fixed-tolerance
+//! baseline on every bench scene, the 1000-step chain's lazy walk, and
+//! `report` on a 100-step chain as a whole process.
 
 use std::hint::black_box;
 
@@ -75,9 +78,65 @@ fn hot_paths(c: &mut Criterion) {
     });
 }
 
+/// Exact (proven decisions) against classic (midpoints, 1e-4) on every scene `bench` times.
+fn exact_vs_classic(c: &mut Criterion) {
+    for b in caymos::bundled::BUNDLED {
+        let Ok(a) = analyse_with(caymos::bundled::load(b.name).expect("bundled"), None, Scope::Full) else { continue };
+        let Ok(s) = a.outcome else { continue };
+        let con = &s.construction;
+        let jet = con.convert::<Jet<f64>>();
+        c.bench_function(&format!("{} Cayley space exact", b.name), |bch| {
+            bch.iter(|| cayley_space(con, &s.certifier, jet.clone(), &s.dec, &s.complexity, black_box(Method::Exact)))
+        });
+        c.bench_function(&format!("{} Cayley space classic", b.name), |bch| {
+            bch.iter(|| caymos::bench::classic_space(black_box(con), &s))
+        });
+    }
+}
+
+/// The 1000-step chain's drawn component by the lazy walk, and `report` on a
+/// 100-step chain as the user runs it (a whole process: start, parse,
+/// analysis, self-check, output).
+fn large(c: &mut Criterion) {
+    let chain = caymos::generate::chain(1000);
+    let ca = analyse_with(chain, None, Scope::Lazy).expect("analyses");
+    let cs = ca.outcome.expect("in class");
+    let cjet = cs.construction.convert::<Jet<f64>>();
+    c.bench_function("1000-step chain lazy walk of the drawn component", |b| {
+        b.iter(|| {
+            component_through(
+                &cs.construction,
+                &cs.certifier,
+                &cjet,
+                &cs.drawn.ty,
+                black_box(cs.drawn.lambda),
+                LazyOptions::default(),
+            )
+        })
+    });
+    let path = std::env::temp_dir().join(format!("caymos-bench-chain-100-{}.toml", std::process::id()));
+    std::fs::write(&path, caymos::generate::to_toml(&caymos::generate::chain(100))).expect("temp file");
+    c.bench_function("report on a 100-step chain, whole process", |b| {
+        b.iter(|| {
+            let out = std::process::Command::new(env!("CARGO_BIN_EXE_caymos"))
+                .arg("report")
+                .arg(&path)
+                .output()
+                .expect("the binary runs");
+            assert!(out.status.success());
+        })
+    });
+    let _ = std::fs::remove_file(&path);
+}
+
 criterion_group! {
     name = benches;
     config = Criterion::default().sample_size(20);
-    targets = small_scenes, hot_paths
+    targets = small_scenes, hot_paths, exact_vs_classic
 }
-criterion_main!(benches);
+criterion_group! {
+    name = slow;
+    config = Criterion::default().sample_size(10);
+    targets = large
+}
+criterion_main!(benches, slow);

@@ -375,8 +375,10 @@ pub fn minimality(m: &crate::minimal_vector::MinimalVector) -> String {
         }
         Minimality::Whole => "no smaller set was proven to separate within the work budget".to_string(),
     };
-    if m.unproven_components > 0 {
-        let _ = write!(said, "; {} component(s) could not be enclosed with proofs", m.unproven_components);
+    if m.unenclosed_component {
+        said.push_str(
+            " (a component could not be enclosed with proofs: several steps flat at once, or a deep construction)",
+        );
     }
     said
 }

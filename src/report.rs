@@ -62,8 +62,8 @@ pub struct MinimalReport {
     /// Cells (pieces of components) enclosed and pairs of cells compared for the proofs.
     pub cells: usize,
     pub pairs: usize,
-    /// Components that could not be enclosed with proofs.
-    pub unproven_components: usize,
+    /// A component could not be enclosed with proofs (then only the whole vector is claimed).
+    pub unenclosed_component: bool,
     pub message: String,
 }
 
@@ -353,7 +353,7 @@ impl Report {
                     minimality: m.minimality,
                     cells: m.cells,
                     pairs: m.pairs,
-                    unproven_components: m.unproven_components,
+                    unenclosed_component: m.unenclosed_component,
                     message: present::minimality(&m),
                 });
                 r.drawn = Some(DrawnReport { lambda: s.drawn.lambda, ty: s.drawn.ty.to_string() });

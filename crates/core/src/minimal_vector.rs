@@ -84,10 +84,10 @@ pub struct MinimalVector {
     pub cells: usize,
     /// Pairs of cells compared.
     pub pairs: usize,
-    /// Components whose curve could not be enclosed with proofs (an interval
+    /// A component's curve could not be enclosed with proofs (an interval
     /// end not verified, or a mirror structure not recognised): only the
-    /// whole vector is claimed for them.
-    pub unproven_components: usize,
+    /// whole vector is claimed then.
+    pub unenclosed_component: bool,
 }
 
 /// The smallest set of complete-Cayley-vector entries (`ccv`) proven to
@@ -107,15 +107,19 @@ pub fn minimal_vector(
     let max_cells = options.max_step_cells / con.steps.len().max(1);
     let mut budget = Budget { cells: 0, pairs: 0, max_cells, max_pairs: options.max_pairs };
     let mut loops = Vec::new();
-    let mut unproven = 0;
-    // Every loop starts as one cell per half: with fewer cells than that in
-    // the budget nothing can be proven, and nothing is tried.
+    let mut unenclosed = false;
+    // Every loop starts with its ends verified and one cell per half: with
+    // less than that in the budget nothing can be proven, and nothing is tried.
     let segments: usize = components.iter().map(|c| c.intervals.len()).sum();
-    let components = if 2 * segments > max_cells { &[][..] } else { components };
+    let components = if 2 * segments * (1 + END_COST_CELLS) > max_cells { &[][..] } else { components };
     for c in components {
         match Loop::new(con, space, c, ccv, mirrors, &mut budget) {
             Some(l) => loops.push(l),
-            None => unproven += 1,
+            None => {
+                // The whole vector it will be: spend nothing more.
+                unenclosed = true;
+                break;
+            }
         }
     }
     let result = |entries, minimality, budget: &Budget| MinimalVector {
@@ -123,7 +127,7 @@ pub fn minimal_vector(
         minimality,
         cells: budget.cells,
         pairs: budget.pairs,
-        unproven_components: unproven,
+        unenclosed_component: unenclosed,
     };
     if ccv.len() <= 1 {
         return result(whole, Minimality::Proven, &budget);
@@ -131,7 +135,7 @@ pub fn minimal_vector(
     if loops.is_empty() {
         return result(whole, Minimality::Whole, &budget);
     }
-    if unproven > 0 {
+    if unenclosed {
         return result(whole, Minimality::Whole, &budget);
     }
     // One entry never separates a closed loop; below `size`, every set was
@@ -191,6 +195,10 @@ impl Budget {
         self.cells >= self.max_cells || self.pairs >= self.max_pairs
     }
 }
+
+/// What verifying one interval end costs, in cells (a bracket search of a
+/// few dozen enclosures of the flat step's slack), for the budget.
+const END_COST_CELLS: usize = 16;
 
 /// Depth of dyadic splitting a cell may reach: a pair still unsettled that
 /// deep is where the projection meets itself (or nearly so), and the set is
