@@ -102,6 +102,11 @@ impl ClusterSet {
         id
     }
 
+    /// The number of joints (cluster joints are below it).
+    pub fn n_joints(&self) -> usize {
+        self.by_joint.len()
+    }
+
     /// Whether cluster `id` has not been merged into a bigger one.
     pub fn is_alive(&self, id: usize) -> bool {
         self.alive[id]
