@@ -180,10 +180,12 @@ impl ClusterSet {
                         continue;
                     }
                     for c in self.containing(q) {
-                        if c == a || c == b || self.single_shared(b, c) != Some(q) {
+                        if c == a || c == b {
                             continue;
                         }
-                        if let Some(r) = self.single_shared(a, c) {
+                        // Most clusters at q miss `a`: that test first.
+                        let Some(r) = self.single_shared(a, c) else { continue };
+                        if self.single_shared(b, c) == Some(q) {
                             return Some(Merge::Triangle { parts: [a, b, c], shared: [p, q, r] });
                         }
                     }
