@@ -7,9 +7,8 @@
 //! pair built earliest is used (smallest index of its later-built cluster,
 //! then of its earlier one).
 
-use std::collections::HashMap;
-
 use crate::decompose::Decomposition;
+use crate::inthash::{IntMap, int_map};
 
 /// Why a pair of clusters is valid (adjacent in a four-cycle of clusters).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -80,26 +79,25 @@ fn key(a: usize, b: usize) -> (usize, usize) {
 /// Run the four-cycle test along the construction.
 pub fn four_cycle_test(dec: &Decomposition) -> Complexity {
     let clusters = &dec.clusters;
-    let mut valid: HashMap<(usize, usize), PairOrigin> = HashMap::new();
+    let mut valid: IntMap<(usize, usize), PairOrigin> = int_map(4 * dec.steps.len());
     // Build position of each cluster (first time built), and per joint the
     // built clusters holding it, in build order.
     let mut built_at: Vec<usize> = vec![usize::MAX; clusters.nodes.len()];
     let mut n_built = 0usize;
-    let mut holding_joint: HashMap<usize, Vec<usize>> = HashMap::new();
-    let mut ccv = vec![dec.base];
+    let mut holding_joint: Vec<Vec<usize>> = vec![Vec::new(); clusters.n_joints()];
+    let mut ccv = Vec::with_capacity(dec.steps.len() + 1);
+    ccv.push(dec.base);
     let mut carriers = vec![None; dec.steps.len()];
     let mut failure = None;
-    let built_index = |built_at: &[usize], c: usize| built_at[c];
     for (k, step) in dec.steps.iter().enumerate() {
         if k > 0 && failure.is_none() {
-            let holding = |j: usize| -> Vec<usize> { holding_joint.get(&j).cloned().unwrap_or_default() };
-            let (us, ws) = (holding(step.u), holding(step.w));
+            let (us, ws) = (&holding_joint[step.u], &holding_joint[step.w]);
             let mut best: Option<((usize, usize), Carrier)> = None;
-            for &tu in &us {
-                for &tw in &ws {
+            for &tu in us {
+                for &tw in ws {
                     let Some(&origin) = valid.get(&key(tu, tw)) else { continue };
-                    let [x] = clusters.shared(tu, tw)[..] else { continue };
-                    let (bu, bw) = (built_index(&built_at, tu), built_index(&built_at, tw));
+                    let Some(x) = clusters.single_shared(tu, tw) else { continue };
+                    let (bu, bw) = (built_at[tu], built_at[tw]);
                     let rank = (bu.max(bw), bu.min(bw));
                     if best.as_ref().is_none_or(|(r, _)| rank < *r) {
                         best = Some((rank, Carrier { tu, tw, x, origin }));
@@ -110,9 +108,9 @@ pub fn four_cycle_test(dec: &Decomposition) -> Complexity {
                 Some((_, carrier)) => {
                     carriers[k] = Some(carrier);
                     ccv.push([carrier.x, step.vertex]);
-                    for &tu in &us {
-                        for &tw in &ws {
-                            if let [far] = clusters.shared(tu, tw)[..] {
+                    for &tu in us {
+                        for &tw in ws {
+                            if let Some(far) = clusters.single_shared(tu, tw) {
                                 valid.entry(key(step.cluster_u, tu)).or_insert(PairOrigin::FourCycle {
                                     step: k,
                                     on_u: true,
@@ -132,7 +130,7 @@ pub fn four_cycle_test(dec: &Decomposition) -> Complexity {
                     }
                 }
                 None => {
-                    failure = Some(explain_failure(dec, k, &us, &ws));
+                    failure = Some(explain_failure(dec, k, us, ws));
                 }
             }
         }
@@ -144,7 +142,7 @@ pub fn four_cycle_test(dec: &Decomposition) -> Complexity {
             if built_at[c] == usize::MAX {
                 built_at[c] = n_built;
                 for &j in &clusters.nodes[c].joints {
-                    holding_joint.entry(j).or_default().push(c);
+                    holding_joint[j].push(c);
                 }
             }
             n_built += 1;

@@ -2,8 +2,6 @@
 //! (2,3) pebble game), cluster decomposition by merging triangles of clusters,
 //! the base non-edge, and the construction steps `v ◁ (u, w)`.
 
-use std::collections::HashSet;
-
 use crate::linkage::{Constraint, Linkage};
 
 /// How a cluster was formed; the merge tree lets cluster shapes be computed
@@ -104,6 +102,11 @@ impl ClusterSet {
         id
     }
 
+    /// The number of joints (cluster joints are below it).
+    pub fn n_joints(&self) -> usize {
+        self.by_joint.len()
+    }
+
     /// Whether cluster `id` has not been merged into a bigger one.
     pub fn is_alive(&self, id: usize) -> bool {
         self.alive[id]
@@ -123,6 +126,39 @@ impl ClusterSet {
         self.nodes[id].joints.binary_search(&joint).is_ok()
     }
 
+    /// The joints clusters `a` and `b` share, counted up to two, and the
+    /// first of them (`usize::MAX` when none): [`Self::shared`] without allocating.
+    fn meet(&self, a: usize, b: usize) -> (usize, usize) {
+        let (x, y) = (&self.nodes[a].joints, &self.nodes[b].joints);
+        let (mut i, mut j, mut count, mut first) = (0, 0, 0, usize::MAX);
+        while i < x.len() && j < y.len() {
+            match x[i].cmp(&y[j]) {
+                std::cmp::Ordering::Less => i += 1,
+                std::cmp::Ordering::Greater => j += 1,
+                std::cmp::Ordering::Equal => {
+                    if count == 0 {
+                        first = x[i];
+                    }
+                    count += 1;
+                    if count == 2 {
+                        break;
+                    }
+                    i += 1;
+                    j += 1;
+                }
+            }
+        }
+        (count, first)
+    }
+
+    /// The joint clusters `a` and `b` share when they share exactly one.
+    pub fn single_shared(&self, a: usize, b: usize) -> Option<usize> {
+        match self.meet(a, b) {
+            (1, j) => Some(j),
+            _ => None,
+        }
+    }
+
     /// Live clusters containing `joint`.
     pub fn containing(&self, joint: usize) -> impl Iterator<Item = usize> + '_ {
         self.by_joint[joint].iter().copied().filter(|&c| self.alive[c])
@@ -136,8 +172,7 @@ impl ClusterSet {
                 if b == a {
                     continue;
                 }
-                let ab = self.shared(a, b);
-                if ab.len() >= 2 {
+                if self.meet(a, b).0 >= 2 {
                     return Some(Merge::Overlap { parts: [a, b] });
                 }
                 for &q in &self.nodes[b].joints {
@@ -145,10 +180,12 @@ impl ClusterSet {
                         continue;
                     }
                     for c in self.containing(q) {
-                        if c == a || c == b || self.shared(b, c) != [q] {
+                        if c == a || c == b {
                             continue;
                         }
-                        if let [r] = self.shared(a, c)[..] {
+                        // Most clusters at q miss `a`: that test first.
+                        let Some(r) = self.single_shared(a, c) else { continue };
+                        if self.single_shared(b, c) == Some(q) {
                             return Some(Merge::Triangle { parts: [a, b, c], shared: [p, q, r] });
                         }
                     }
@@ -159,12 +196,13 @@ impl ClusterSet {
     }
 
     fn apply(&mut self, merge: Merge) -> usize {
-        let (parts, origin): (Vec<usize>, Origin) = match merge {
-            Merge::Triangle { parts, shared } => (parts.to_vec(), Origin::Triangle { parts, shared }),
-            Merge::Overlap { parts } => (parts.to_vec(), Origin::Overlap { parts }),
+        let (buf, len, origin) = match merge {
+            Merge::Triangle { parts, shared } => (parts, 3, Origin::Triangle { parts, shared }),
+            Merge::Overlap { parts: [a, b] } => ([a, b, b], 2, Origin::Overlap { parts: [a, b] }),
         };
-        let mut joints = Vec::new();
-        for &p in &parts {
+        let parts = &buf[..len];
+        let mut joints = Vec::with_capacity(parts.iter().map(|&p| self.nodes[p].joints.len()).sum());
+        for &p in parts {
             self.alive[p] = false;
             joints.extend_from_slice(&self.nodes[p].joints);
         }
@@ -231,7 +269,7 @@ pub fn bars_within_bodies(linkage: &Linkage) -> Vec<BodyBar> {
 pub fn rigidity(linkage: &Linkage) -> Rigidity {
     let n = linkage.n_joints();
     let mut pebbles = vec![2u8; n];
-    let mut out: Vec<Vec<usize>> = vec![Vec::new(); n];
+    let mut out = vec![OutEdges::default(); n];
     let mut independent = 0usize;
     let mut redundant = Vec::new();
     let mut search = PebbleSearch::new(n);
@@ -262,6 +300,32 @@ pub fn rigidity(linkage: &Linkage) -> Rigidity {
     Rigidity { dof: (2 * n).saturating_sub(3 + independent), redundant }
 }
 
+/// A joint's out-edges in the pebble game: each covers one of its two
+/// pebbles, so there are at most two (kept inline, no allocation). Order as
+/// a `Vec` with `swap_remove` and `push` would keep it.
+#[derive(Debug, Clone, Copy, Default)]
+struct OutEdges {
+    to: [usize; 2],
+    len: u8,
+}
+
+impl OutEdges {
+    fn as_slice(&self) -> &[usize] {
+        &self.to[..usize::from(self.len)]
+    }
+
+    fn push(&mut self, j: usize) {
+        debug_assert!(self.len < 2, "a joint covers at most two edges");
+        self.to[usize::from(self.len)] = j;
+        self.len += 1;
+    }
+
+    fn swap_remove(&mut self, pos: usize) {
+        self.len -= 1;
+        self.to[pos] = self.to[usize::from(self.len)];
+    }
+}
+
 /// The depth-first search of the pebble game, with its buffers kept
 /// between searches (a search visits few joints; clearing n of them each
 /// time made the game quadratic).
@@ -280,7 +344,7 @@ impl PebbleSearch {
 
     /// Move a free pebble to `start` by reversing a directed path, never taking one
     /// from `start` or `keep`. Returns whether a pebble was found.
-    fn fetch(&mut self, start: usize, keep: usize, pebbles: &mut [u8], out: &mut [Vec<usize>]) -> bool {
+    fn fetch(&mut self, start: usize, keep: usize, pebbles: &mut [u8], out: &mut [OutEdges]) -> bool {
         self.round += 1;
         let round = self.round;
         let (parent, seen, stack) = (&mut self.parent, &mut self.seen, &mut self.stack);
@@ -289,7 +353,7 @@ impl PebbleSearch {
         stack.clear();
         stack.push(start);
         while let Some(x) = stack.pop() {
-            for &y in &out[x] {
+            for &y in out[x].as_slice() {
                 if seen[y] == round {
                     continue;
                 }
@@ -301,7 +365,7 @@ impl PebbleSearch {
                     let mut child = y;
                     while child != start {
                         let p = parent[child];
-                        let pos = out[p].iter().position(|&t| t == child).expect("path edge exists");
+                        let pos = out[p].as_slice().iter().position(|&t| t == child).expect("path edge exists");
                         out[p].swap_remove(pos);
                         out[child].push(p);
                         child = p;
@@ -388,9 +452,8 @@ pub struct BaseError {
 
 /// Classify the linkage; on success its maximal clusters (merge tree included).
 pub fn classify(linkage: &Linkage) -> Result<ClusterSet, Outside> {
-    let parts = crate::linkage::connected_parts(&linkage.graph());
-    if parts.len() > 1 {
-        return Err(Outside::Disconnected { parts });
+    if !linkage.is_connected() {
+        return Err(Outside::Disconnected { parts: crate::linkage::connected_parts(&linkage.graph()) });
     }
     let rig = rigidity(linkage);
     if !rig.redundant.is_empty() {
@@ -427,47 +490,53 @@ pub fn steps_from_base(clusters: &ClusterSet, n_joints: usize, f: [usize; 2]) ->
     let mut placed_at = vec![usize::MAX; n_joints];
     placed_at[a] = 0;
     placed_at[b] = 0;
-    let live =
-        |alive: &[bool], j: usize| clusters.by_joint[j].iter().copied().filter(|&c| alive[c]).collect::<Vec<_>>();
     let joints = |c: usize| clusters.nodes[c].joints.as_slice();
-    let shared_with_built = |placed_at: &[usize], c: usize| {
-        joints(c).iter().copied().filter(|&j| placed_at[j] != usize::MAX).collect::<Vec<_>>()
+    // The joint cluster `c` shares with the built part when it shares exactly one.
+    let single_built = |placed_at: &[usize], c: usize| {
+        let mut placed = joints(c).iter().copied().filter(|&j| placed_at[j] != usize::MAX);
+        match (placed.next(), placed.next()) {
+            (Some(j), None) => Some(j),
+            _ => None,
+        }
     };
     let mut steps = Vec::new();
     // (key, p, y, z, q, r): triangle built–y–z with p = built ∩ y, q = y ∩ z, r = built ∩ z.
     type Candidate = ((usize, usize, usize), usize, usize, usize, usize, usize);
     let mut heap: BinaryHeap<Reverse<Candidate>> = BinaryHeap::new();
     let mut fresh: Vec<usize> = vec![a, b];
+    let mut batch: Vec<usize> = Vec::new();
     let mut placed_count = 2;
     loop {
         // New joints of the built part: over-constraint checks and new candidates.
-        for p in std::mem::take(&mut fresh) {
-            for y in live(&alive, p) {
-                if shared_with_built(&placed_at, y) != [p] {
+        std::mem::swap(&mut fresh, &mut batch);
+        for &p in &batch {
+            for y in clusters.by_joint[p].iter().copied().filter(|&c| alive[c]) {
+                if single_built(&placed_at, y) != Some(p) {
                     return None; // shares two joints: over-constrained
                 }
                 for &q in joints(y) {
                     if placed_at[q] != usize::MAX {
                         continue;
                     }
-                    for z in live(&alive, q) {
-                        if z == y || clusters.shared(y, z) != [q] {
+                    for z in clusters.by_joint[q].iter().copied().filter(|&c| alive[c]) {
+                        if z == y || clusters.single_shared(y, z) != Some(q) {
                             continue;
                         }
-                        let [r] = shared_with_built(&placed_at, z)[..] else { continue };
+                        let Some(r) = single_built(&placed_at, z) else { continue };
                         let key = (placed_at[p].max(placed_at[r]), placed_at[p].min(placed_at[r]), q);
                         heap.push(Reverse((key, p, y, z, q, r)));
                     }
                 }
             }
         }
+        batch.clear();
         let candidate = loop {
             let Some(Reverse((_, p, y, z, q, r))) = heap.pop() else { break None };
             let valid = alive[y]
                 && alive[z]
                 && placed_at[q] == usize::MAX
-                && shared_with_built(&placed_at, y) == [p]
-                && shared_with_built(&placed_at, z) == [r];
+                && single_built(&placed_at, y) == Some(p)
+                && single_built(&placed_at, z) == Some(r);
             if valid {
                 break Some((p, y, z, q, r));
             }
@@ -501,32 +570,30 @@ pub fn steps_from_base(clusters: &ClusterSet, n_joints: usize, f: [usize; 2]) ->
 /// joint to a joint clustered with the other ground joint (the crank
 /// parameter), then any base touching the ground, then the rest by index.
 pub fn base_candidates(clusters: &ClusterSet, linkage: &Linkage) -> Vec<[usize; 2]> {
-    let mut seen = HashSet::new();
+    let clustered = |x: usize, y: usize| clusters.containing(x).any(|c| clusters.contains(c, y));
     let mut out = Vec::new();
+    let mut around = Vec::new();
     for v in 0..linkage.n_joints() {
-        let around: Vec<usize> = clusters.containing(v).collect();
+        around.clear();
+        around.extend(clusters.containing(v));
         for (i, &y) in around.iter().enumerate() {
             for &z in &around[i + 1..] {
-                if clusters.shared(y, z) != [v] {
+                if clusters.single_shared(y, z) != Some(v) {
                     continue;
                 }
                 for &a in &clusters.nodes[y].joints {
                     for &b in &clusters.nodes[z].joints {
-                        if a == v || b == v || clusters.containing(a).any(|c| clusters.contains(c, b)) {
+                        if a == v || b == v || clustered(a, b) {
                             continue;
                         }
-                        let pair = [a.min(b), a.max(b)];
-                        if seen.insert(pair) {
-                            out.push(pair);
-                        }
+                        out.push([a.min(b), a.max(b)]);
                     }
                 }
             }
         }
     }
     let ground = &linkage.ground;
-    let clustered = |x: usize, y: usize| clusters.containing(x).any(|c| clusters.contains(c, y));
-    let rank = |&[a, b]: &[usize; 2]| -> usize {
+    let rank = |[a, b]: [usize; 2]| -> usize {
         let crank = |g: usize, t: usize| ground.contains(&g) && ground.iter().any(|&h| h != g && clustered(h, t));
         if crank(a, b) || crank(b, a) {
             0
@@ -536,8 +603,12 @@ pub fn base_candidates(clusters: &ClusterSet, linkage: &Linkage) -> Vec<[usize; 
             2
         }
     };
-    out.sort_by_key(|p| (rank(p), *p));
-    out
+    // Each pair once (its rank is a function of the pair, so equal entries are adjacent).
+    out.sort_unstable();
+    out.dedup();
+    let mut ranked: Vec<(usize, [usize; 2])> = out.into_iter().map(|p| (rank(p), p)).collect();
+    ranked.sort_unstable();
+    ranked.into_iter().map(|(_, p)| p).collect()
 }
 
 /// Recognise the class and build the construction from the requested base,

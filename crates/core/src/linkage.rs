@@ -116,6 +116,37 @@ impl Linkage {
         format!("{}–{}", self.names[p], self.names[q])
     }
 
+    /// Whether the joints form at most one connected part (bars and bodies
+    /// joining them); [`connected_parts`] lists the parts. A union-find over
+    /// the bars and bodies, without building the graph.
+    pub fn is_connected(&self) -> bool {
+        let mut parent: Vec<usize> = (0..self.n_joints()).collect();
+        fn root(parent: &mut [usize], mut j: usize) -> usize {
+            while parent[j] != j {
+                parent[j] = parent[parent[j]];
+                j = parent[j];
+            }
+            j
+        }
+        let mut parts = self.n_joints();
+        let mut join = |p: usize, q: usize| {
+            let (rp, rq) = (root(&mut parent, p), root(&mut parent, q));
+            if rp != rq {
+                parent[rp] = rq;
+                parts -= 1;
+            }
+        };
+        for bar in &self.bars {
+            join(bar.joints[0], bar.joints[1]);
+        }
+        for body in &self.bodies {
+            for w in body.windows(2) {
+                join(w[0], w[1]);
+            }
+        }
+        parts <= 1
+    }
+
     /// The constraint graph as edges: each bar, and each body as a minimally
     /// rigid fan (2k − 3 edges), each tagged with the bar or body it came from.
     pub fn constraint_edges(&self) -> Vec<([usize; 2], Constraint)> {
@@ -230,6 +261,7 @@ F = [4, 0]
             .collect();
         assert_eq!(bars, vec![[0, 1], [1, 2]]);
         assert_eq!(connected_parts(&g), vec![vec![0, 1, 2, 3, 4, 5]]);
+        assert!(l.is_connected());
     }
 
     #[test]
@@ -247,5 +279,6 @@ F = [5, 5]
 "#,
         );
         assert_eq!(connected_parts(&l.graph()), vec![vec![0, 2], vec![1, 3, 4], vec![5]]);
+        assert!(!l.is_connected());
     }
 }

@@ -2,9 +2,10 @@
 //! oriented intervals, the two paths between two realizations, and a stepper
 //! that walks them by a geometric step, landing exactly on every endpoint.
 
-use std::collections::HashMap;
+use std::collections::hash_map::Entry;
 
 use crate::cayley_space::{CayleySpace, OrientedInterval};
+use crate::inthash::{IntMap, int_map};
 use crate::linkage::Linkage;
 use crate::realize::{Construction, Event, Point2, Realization, RealizationType, to_display};
 
@@ -98,26 +99,48 @@ impl TypeKey {
 /// ends at the same root. Every interval lands in exactly one component.
 pub fn components(space: &CayleySpace<f64>) -> Components {
     let ivs = &space.intervals;
-    let mut by_end: HashMap<(usize, Side, TypeKey), Vec<usize>> = HashMap::with_capacity(2 * ivs.len());
+    // Ends with the same (root, side, type), chained in interval order: the
+    // map holds the first and last end of each chain, `next` links them (end
+    // `2i` is interval i's lower, `2i + 1` its upper; no list per key).
+    let slot = |i: usize, side: Side| 2 * i + usize::from(side == Side::Upper);
+    let mut chains: IntMap<(usize, Side, TypeKey), (usize, usize)> = int_map(2 * ivs.len());
+    let mut next = vec![usize::MAX; 2 * ivs.len()];
     for (i, iv) in ivs.iter().enumerate() {
         for side in [Side::Lower, Side::Upper] {
-            by_end.entry((end(iv, side).id, side, TypeKey::of(&iv.ty, None))).or_default().push(i);
+            match chains.entry((end(iv, side).id, side, TypeKey::of(&iv.ty, None))) {
+                Entry::Occupied(mut e) => {
+                    let (_, last) = e.get_mut();
+                    next[*last] = slot(i, side);
+                    *last = slot(i, side);
+                }
+                Entry::Vacant(e) => {
+                    e.insert((slot(i, side), slot(i, side)));
+                }
+            }
         }
     }
-    // Intervals reachable from end `side` of interval `i`: flip each flat
-    // step's bit (or, failing that, any set of them).
-    let partners = |i: usize, side: Side| -> Vec<usize> {
+    // Intervals reachable from end `side` of interval `i` (into `out`): flip
+    // each flat step's bit.
+    let partners = |i: usize, side: Side, out: &mut Vec<usize>| {
+        out.clear();
         let e = end(&ivs[i], side);
-        let lookup = |step: usize| -> &[usize] {
-            by_end.get(&(e.id, side, TypeKey::of(&ivs[i].ty, Some(step)))).map_or(&[], |v| v.as_slice())
-        };
         // Only single flips: where none continues, the end is a dead end
         // (e.g. a folded rhombus, where a later step degenerates and the
         // motion has an extra degree of freedom). Passing through by flipping
         // several bits would join components on some bases and not on
         // others; the realization space must not depend on the base.
-        e.events.iter().flat_map(|ev| lookup(ev.step)).copied().filter(|&j| j != i).collect()
+        for ev in &e.events {
+            let Some(&(first, _)) = chains.get(&(e.id, side, TypeKey::of(&ivs[i].ty, Some(ev.step)))) else { continue };
+            let mut at = first;
+            while at != usize::MAX {
+                if at / 2 != i {
+                    out.push(at / 2);
+                }
+                at = next[at];
+            }
+        }
     };
+    let mut options = Vec::new();
     let mut of_interval = vec![usize::MAX; ivs.len()];
     let mut list = Vec::new();
     let mut branch_points = Vec::new();
@@ -132,7 +155,7 @@ pub fn components(space: &CayleySpace<f64>) -> Components {
         // Walk upward from the start's upper end.
         let (mut cur, mut leaving) = (start, Side::Upper);
         loop {
-            let options = partners(cur, leaving);
+            partners(cur, leaving, &mut options);
             if options.len() != 1 {
                 let e = end(&ivs[cur], leaving);
                 branch_points.push(BranchPoint {
@@ -163,7 +186,7 @@ pub fn components(space: &CayleySpace<f64>) -> Components {
             // An open chain: collect what lies behind the start as well.
             let (mut cur, mut leaving) = (start, Side::Lower);
             loop {
-                let options = partners(cur, leaving);
+                partners(cur, leaving, &mut options);
                 let Some(&next) = options.iter().find(|&&j| of_interval[j] == usize::MAX) else { break };
                 of_interval[next] = c;
                 seq.insert(0, (next, leaving == Side::Upper));

@@ -433,7 +433,8 @@ impl<T: Real> Construction<T> {
             let (p, q) = (shape_pos(&shapes[c], pivot), shape_pos(&shapes[c], apex_joint));
             let e = sub(q, p);
             let length = norm(e);
-            let eh = unit(e);
+            // unit(e), from the norm just taken (one hypot, not two).
+            let eh = [e[0] / length, e[1] / length];
             let list = shapes[c]
                 .iter()
                 .filter(|(j, _)| *j != pivot && *j != apex_joint)
