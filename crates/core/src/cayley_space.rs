@@ -18,7 +18,7 @@
 //!
 //! Generic over the scalar type so that a double-double run is the reference.
 
-use crate::certify::{At as Place, Certifier, Closes, Sign};
+use crate::certify::{At as Place, Certifier, Closes, Prefixes, Sign};
 use crate::complexity::Complexity;
 use crate::decompose::Decomposition;
 use crate::invert::Inverter;
@@ -183,6 +183,8 @@ struct Sweep<'a, T: Real> {
     ids: EndpointIds,
     notes: Vec<Note>,
     out: Vec<OrientedInterval<T>>,
+    /// The certifier's realized prefixes at the places this sweep asks about.
+    prefixes: Prefixes,
 }
 
 /// Compute the oriented intervals of every type.
@@ -226,6 +228,7 @@ pub fn cayley_space<T: Real>(
         ids: EndpointIds::default(),
         notes: Vec::new(),
         out: Vec::new(),
+        prefixes: Prefixes::default(),
     };
     // Start from (0, sentinel): every root of the first step lies below the sentinel.
     let top = (0..n)
@@ -280,9 +283,10 @@ impl<T: Real> Sweep<'_, T> {
     }
 
     /// Proven signs of step k's slacks ([stretched, folded]) at a piece end.
-    fn end_signs(&self, k: usize, bits: &[bool], end: &Endpoint<T>) -> [Sign; 2] {
+    fn end_signs(&mut self, k: usize, bits: &[bool], end: &Endpoint<T>) -> [Sign; 2] {
         let at = Place { lambda: end.lambda.to_f64(), events: &end.events };
-        let s = self.cert.slack_signs(bits, at, &[(k, Kind::Stretched), (k, Kind::Folded)]);
+        let s =
+            self.cert.slack_signs_in(Some(&mut self.prefixes), bits, at, &[(k, Kind::Stretched), (k, Kind::Folded)]);
         [s[0], s[1]]
     }
 
@@ -377,9 +381,8 @@ impl<T: Real> Sweep<'_, T> {
         while g < inside.len() {
             let r = inside[g];
             let same = feasible[g] == feasible[g + 1];
-            if same
-                && self.cert.slack_sign(bits, Place { lambda: r.lambda.to_f64(), events: &[] }, k, r.kind) != Sign::Zero
-            {
+            let at = Place { lambda: r.lambda.to_f64(), events: &[] };
+            if same && self.cert.slack_signs_in(Some(&mut self.prefixes), bits, at, &[(k, r.kind)])[0] != Sign::Zero {
                 inside.remove(g);
                 feasible.remove(g + 1);
             } else {
@@ -433,7 +436,7 @@ impl<T: Real> Sweep<'_, T> {
     fn gap_closes(&mut self, k: usize, bits: &[bool], a: T, b: T) -> Option<bool> {
         let mid = ((a + b) / T::from_f64(2.0)).to_f64();
         let inside = T::from_f64(mid) > a && T::from_f64(mid) < b;
-        match inside.then(|| self.cert.closes(bits, mid, k))? {
+        match inside.then(|| self.cert.closes(Some(&mut self.prefixes), bits, mid, k))? {
             Closes::Yes => Some(true),
             Closes::No => Some(false),
             Closes::Degenerate => {
