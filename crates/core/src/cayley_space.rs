@@ -353,11 +353,18 @@ impl<T: Real> Sweep<'_, T> {
         for g in 0..n_gaps {
             let a = if g == 0 { piece.lo.lambda } else { inside[g - 1].lambda };
             let b = if g == n_gaps - 1 { piece.hi.lambda } else { inside[g].lambda };
-            // A piece without a root of step k inside, whose both ends prove
-            // both slacks positive, closes all along (a sign change would be
-            // a root): the ends' proofs decide, no midpoint is needed.
-            let ends_close = n_gaps == 1 && ends.iter().flatten().all(|&s| s == Sign::Positive);
-            let proven = if ends_close { Some(true) } else { self.gap_closes(k, bits, a, b) };
+            // A gap holds no root of step k's slacks (its bounds are all of
+            // them), so each slack keeps one sign on it (a change would be a
+            // root), the sign it has at a piece end that bounds the gap: the
+            // end's proofs decide, no midpoint is needed. Both ends of a
+            // single gap must agree (else the midpoint decides).
+            let from_ends = match (g == 0, g == n_gaps - 1) {
+                (true, true) => Some(end_closes(ends[0])).filter(|&c| c == end_closes(ends[1])).flatten(),
+                (true, false) => end_closes(ends[0]),
+                (false, true) => end_closes(ends[1]),
+                (false, false) => None,
+            };
+            let proven = from_ends.or_else(|| self.gap_closes(k, bits, a, b));
             let slot = proven.unwrap_or_else(|| {
                 let from_left = if g == 0 { at_lo.first().map(|r| r.right) } else { Some(inside[g - 1].right) };
                 let from_right = if g == n_gaps - 1 { at_hi.first().map(|r| r.left) } else { Some(inside[g].left) };
@@ -576,6 +583,20 @@ impl<T: Real> Sweep<'_, T> {
                 roots.push(bisect(e, b, self.root_tol, |x| eval(self, x).map(|g| sign(g.v))));
             }
         }
+    }
+}
+
+/// Whether a step closes next to a piece end, from its slacks' proven signs
+/// there ([stretched, folded]): `Some(true)` when both are positive,
+/// `Some(false)` when one is negative, `None` otherwise (a slack zero there,
+/// or undefined).
+fn end_closes(signs: [Sign; 2]) -> Option<bool> {
+    if signs.contains(&Sign::Negative) {
+        Some(false)
+    } else if signs.iter().all(|&s| s == Sign::Positive) {
+        Some(true)
+    } else {
+        None
     }
 }
 

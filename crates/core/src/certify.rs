@@ -366,7 +366,8 @@ impl Certifier {
         let mask = at.events.iter().try_fold(0u128, |m, e| (e.step < 128).then(|| m | 1 << e.step));
         let mut prefixes = prefixes;
         let mut enclose = |l: Ball<f64>| match (prefixes.as_deref_mut(), mask) {
-            (Some(p), Some(mask)) if upto < 128 => p.distances(&self.f64_balls, l, bits, upto, mask),
+            // Below two steps there is no prefix worth keeping.
+            (Some(p), Some(mask)) if (2..128).contains(&upto) => p.distances(&self.f64_balls, l, bits, upto, mask),
             _ => self.f64_balls.base_distances_flat(l, bits, upto, &flat),
         };
         let fast = self.evaluate(
