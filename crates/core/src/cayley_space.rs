@@ -353,17 +353,15 @@ impl<T: Real> Sweep<'_, T> {
         for g in 0..n_gaps {
             let a = if g == 0 { piece.lo.lambda } else { inside[g - 1].lambda };
             let b = if g == n_gaps - 1 { piece.hi.lambda } else { inside[g].lambda };
-            // A gap holds no root of step k's slacks (its bounds are all of
-            // them), so each slack keeps one sign on it (a change would be a
-            // root), the sign it has at a piece end that bounds the gap: the
-            // end's proofs decide, no midpoint is needed. Both ends of a
-            // single gap must agree (else the midpoint decides).
-            let from_ends = match (g == 0, g == n_gaps - 1) {
-                (true, true) => Some(end_closes(ends[0])).filter(|&c| c == end_closes(ends[1])).flatten(),
-                (true, false) => end_closes(ends[0]),
-                (false, true) => end_closes(ends[1]),
-                (false, false) => None,
-            };
+            // A piece without a root of step k inside keeps each slack's
+            // sign all along (a change would be a root): where both ends'
+            // proofs agree that it closes, or that it does not, they decide
+            // and no midpoint is needed. A gap beside a root keeps its
+            // midpoint: deciding it from the end disagreed with the midpoint
+            // at Peaucellier's fourth-order touch on base A–B (a sign change
+            // that the candidates did not bound).
+            let from_ends =
+                if n_gaps == 1 { end_closes(ends[0]).filter(|&c| Some(c) == end_closes(ends[1])) } else { None };
             let proven = from_ends.or_else(|| self.gap_closes(k, bits, a, b));
             let slot = proven.unwrap_or_else(|| {
                 let from_left = if g == 0 { at_lo.first().map(|r| r.right) } else { Some(inside[g - 1].right) };
