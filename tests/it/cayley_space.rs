@@ -280,3 +280,40 @@ fn a_construction_converts_between_scalar_types_exactly() {
     assert_eq!(jet.steps.len(), s.construction.steps.len());
     assert_eq!(jet.steps[2].r1.v, s.construction.steps[2].r1);
 }
+
+/// A sweep's kept prefixes (`certify::Prefixes`) answer every question as a
+/// fresh certifier realizing from scratch does, asked in an order that both
+/// extends and cuts kept prefixes (each type's steps in turn, then the next
+/// type). At every end its own flat step's slack is exactly zero: no f64
+/// ball can prove a sign there, so each scene also exercises the fallback to
+/// double-double, which answers zero.
+#[test]
+fn kept_prefixes_answer_as_fresh_realizations() {
+    use caymos::certify::{At, Certifier, Prefixes, Sign};
+    for name in ["peaucellier", "jansen", "limacon", "hard:near-coincident", "hard:tangency", "hard:scale-spread"] {
+        let (a, s) = solve(bundled::resolve(Some(name)).unwrap());
+        let fresh = Certifier::new(&a.linkage, &s.dec).expect("the analysis built one");
+        let mut prefixes = Prefixes::default();
+        let mut zeros = 0;
+        for iv in &s.space.intervals {
+            let bits = &iv.ty.0;
+            for end in [&iv.lower, &iv.upper] {
+                for k in 0..bits.len() {
+                    let at = At { lambda: end.lambda, events: &end.events };
+                    let questions = [(k, Kind::Stretched), (k, Kind::Folded)];
+                    let kept = s.certifier.slack_signs_in(Some(&mut prefixes), bits, at, &questions);
+                    assert_eq!(
+                        kept,
+                        fresh.slack_signs(bits, at, &questions),
+                        "{name} {} step {k} at {}",
+                        iv.ty,
+                        end.lambda
+                    );
+                    let own = end.events.iter().any(|e| e.step == k);
+                    zeros += usize::from(own && kept.contains(&Sign::Zero));
+                }
+            }
+        }
+        assert!(zeros > 0, "{name}: no end's own flat step was asked in double-double");
+    }
+}

@@ -18,7 +18,7 @@
 //!
 //! Generic over the scalar type so that a double-double run is the reference.
 
-use crate::certify::{At as Place, Certifier, Closes, Sign};
+use crate::certify::{At as Place, Certifier, Closes, Prefixes, Sign};
 use crate::complexity::Complexity;
 use crate::decompose::Decomposition;
 use crate::invert::Inverter;
@@ -183,6 +183,8 @@ struct Sweep<'a, T: Real> {
     ids: EndpointIds,
     notes: Vec<Note>,
     out: Vec<OrientedInterval<T>>,
+    /// The certifier's realized prefixes at the places this sweep asks about.
+    prefixes: Prefixes,
 }
 
 /// Compute the oriented intervals of every type.
@@ -226,6 +228,7 @@ pub fn cayley_space<T: Real>(
         ids: EndpointIds::default(),
         notes: Vec::new(),
         out: Vec::new(),
+        prefixes: Prefixes::default(),
     };
     // Start from (0, sentinel): every root of the first step lies below the sentinel.
     let top = (0..n)
@@ -280,9 +283,10 @@ impl<T: Real> Sweep<'_, T> {
     }
 
     /// Proven signs of step k's slacks ([stretched, folded]) at a piece end.
-    fn end_signs(&self, k: usize, bits: &[bool], end: &Endpoint<T>) -> [Sign; 2] {
+    fn end_signs(&mut self, k: usize, bits: &[bool], end: &Endpoint<T>) -> [Sign; 2] {
         let at = Place { lambda: end.lambda.to_f64(), events: &end.events };
-        let s = self.cert.slack_signs(bits, at, &[(k, Kind::Stretched), (k, Kind::Folded)]);
+        let s =
+            self.cert.slack_signs_in(Some(&mut self.prefixes), bits, at, &[(k, Kind::Stretched), (k, Kind::Folded)]);
         [s[0], s[1]]
     }
 
@@ -349,11 +353,16 @@ impl<T: Real> Sweep<'_, T> {
         for g in 0..n_gaps {
             let a = if g == 0 { piece.lo.lambda } else { inside[g - 1].lambda };
             let b = if g == n_gaps - 1 { piece.hi.lambda } else { inside[g].lambda };
-            // A piece without a root of step k inside, whose both ends prove
-            // both slacks positive, closes all along (a sign change would be
-            // a root): the ends' proofs decide, no midpoint is needed.
-            let ends_close = n_gaps == 1 && ends.iter().flatten().all(|&s| s == Sign::Positive);
-            let proven = if ends_close { Some(true) } else { self.gap_closes(k, bits, a, b) };
+            // A piece without a root of step k inside keeps each slack's
+            // sign all along (a change would be a root): where both ends'
+            // proofs agree that it closes, or that it does not, they decide
+            // and no midpoint is needed. A gap beside a root keeps its
+            // midpoint: deciding it from the end disagreed with the midpoint
+            // at Peaucellier's fourth-order touch on base A–B (a sign change
+            // that the candidates did not bound).
+            let from_ends =
+                if n_gaps == 1 { end_closes(ends[0]).filter(|&c| Some(c) == end_closes(ends[1])) } else { None };
+            let proven = from_ends.or_else(|| self.gap_closes(k, bits, a, b));
             let slot = proven.unwrap_or_else(|| {
                 let from_left = if g == 0 { at_lo.first().map(|r| r.right) } else { Some(inside[g - 1].right) };
                 let from_right = if g == n_gaps - 1 { at_hi.first().map(|r| r.left) } else { Some(inside[g].left) };
@@ -377,9 +386,8 @@ impl<T: Real> Sweep<'_, T> {
         while g < inside.len() {
             let r = inside[g];
             let same = feasible[g] == feasible[g + 1];
-            if same
-                && self.cert.slack_sign(bits, Place { lambda: r.lambda.to_f64(), events: &[] }, k, r.kind) != Sign::Zero
-            {
+            let at = Place { lambda: r.lambda.to_f64(), events: &[] };
+            if same && self.cert.slack_signs_in(Some(&mut self.prefixes), bits, at, &[(k, r.kind)])[0] != Sign::Zero {
                 inside.remove(g);
                 feasible.remove(g + 1);
             } else {
@@ -433,7 +441,7 @@ impl<T: Real> Sweep<'_, T> {
     fn gap_closes(&mut self, k: usize, bits: &[bool], a: T, b: T) -> Option<bool> {
         let mid = ((a + b) / T::from_f64(2.0)).to_f64();
         let inside = T::from_f64(mid) > a && T::from_f64(mid) < b;
-        match inside.then(|| self.cert.closes(bits, mid, k))? {
+        match inside.then(|| self.cert.closes(Some(&mut self.prefixes), bits, mid, k))? {
             Closes::Yes => Some(true),
             Closes::No => Some(false),
             Closes::Degenerate => {
@@ -573,6 +581,20 @@ impl<T: Real> Sweep<'_, T> {
                 roots.push(bisect(e, b, self.root_tol, |x| eval(self, x).map(|g| sign(g.v))));
             }
         }
+    }
+}
+
+/// Whether a step closes next to a piece end, from its slacks' proven signs
+/// there ([stretched, folded]): `Some(true)` when both are positive,
+/// `Some(false)` when one is negative, `None` otherwise (a slack zero there,
+/// or undefined).
+fn end_closes(signs: [Sign; 2]) -> Option<bool> {
+    if signs.contains(&Sign::Negative) {
+        Some(false)
+    } else if signs.iter().all(|&s| s == Sign::Positive) {
+        Some(true)
+    } else {
+        None
     }
 }
 

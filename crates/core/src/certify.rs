@@ -24,11 +24,12 @@
 
 use std::cell::{Cell, OnceCell, RefCell};
 use std::collections::HashMap;
+use std::hash::{BuildHasherDefault, Hasher};
 
 use crate::decompose::Decomposition;
 use crate::linkage::Linkage;
 use crate::real::{Ball, Dd, Jet, Real};
-use crate::realize::{Construction, Event, Kind};
+use crate::realize::{Construction, Event, Kind, P2};
 use crate::tolerance;
 
 /// A proven sign; `Zero` when not even double-double separates the value
@@ -66,13 +67,144 @@ pub struct Certifier {
     kinds: Vec<&'static [Kind]>,
     /// Proven end brackets already searched, keyed by [`BracketKey`]
     /// (the same end is asked about once per later step).
-    brackets: RefCell<HashMap<BracketKey, Option<f64>>>,
+    brackets: RefCell<WordMap<BracketKey, Option<f64>>>,
+    /// Ends' λ already located in double-double ([`Certifier::refine_dd`]),
+    /// keyed like the brackets (without the arithmetic): every later step
+    /// and every question at the end asks for the same Newton iteration.
+    refined: RefCell<WordMap<RefineKey, Dd>>,
     estimated: Cell<usize>,
+}
+
+/// A hash map over keys of a few machine words.
+type WordMap<K, V> = HashMap<K, V, BuildHasherDefault<WordHasher>>;
+
+/// A multiplicative word hasher (FxHash's mixing): the keys are a few
+/// machine words computed here, never adversarial input, so SipHash's
+/// resistance to crafted collisions buys nothing and costs a sizeable share
+/// of a small scene's certified decisions.
+#[derive(Default, Clone, Copy)]
+struct WordHasher(u64);
+
+impl WordHasher {
+    fn add(&mut self, word: u64) {
+        self.0 = (self.0.rotate_left(5) ^ word).wrapping_mul(0x517c_c1b7_2722_0a95);
+    }
+}
+
+impl Hasher for WordHasher {
+    fn write(&mut self, bytes: &[u8]) {
+        for chunk in bytes.chunks(8) {
+            let mut word = [0u8; 8];
+            word[..chunk.len()].copy_from_slice(chunk);
+            self.add(u64::from_le_bytes(word));
+        }
+    }
+    fn write_u8(&mut self, x: u8) {
+        self.add(u64::from(x));
+    }
+    fn write_u64(&mut self, x: u64) {
+        self.add(x);
+    }
+    fn write_u128(&mut self, x: u128) {
+        self.add(x as u64);
+        self.add((x >> 64) as u64);
+    }
+    fn write_usize(&mut self, x: usize) {
+        self.add(x as u64);
+    }
+    fn finish(&self) -> u64 {
+        self.0
+    }
 }
 
 /// An end's bracket depends on its λ, its first flat event, the type bits
 /// before that step and the arithmetic (f64 or double-double balls).
 type BracketKey = ([u64; 2], Event, u128, bool);
+
+/// Realized prefixes of the f64 ball construction, kept across one sweep's
+/// questions. A depth-first sweep asks about one place (an interval end, or
+/// the midpoint of a gap in a piece that survives a step) for the type
+/// prefix of bits 1..k, then for 1..k+1 with each value of bit k: each
+/// question places only the steps past the longest prefix already realized
+/// there. The positions are those a realization from scratch gives (the
+/// same operations in the same order), so no answer changes.
+#[derive(Debug, Default)]
+pub struct Prefixes {
+    places: WordMap<PlaceKey, Realized>,
+}
+
+/// A place: its λ ball (midpoint and radius bits) and its flat steps (bit i for step i).
+type PlaceKey = (u64, u64, u128);
+
+/// One place's realized prefix.
+#[derive(Debug)]
+struct Realized {
+    /// The orientation bits of the steps placed.
+    bits: Vec<bool>,
+    /// The positions after 0, 1, …, `bits.len()` steps, one block of joints each.
+    levels: Vec<P2<Ball<f64>>>,
+    /// d_i of each step placed.
+    distances: Vec<Ball<f64>>,
+}
+
+impl Prefixes {
+    /// [`Construction::base_distances_flat`] at the ball `lambda` with the
+    /// steps of `flat` (bit i for step i) placed flat, from the realized
+    /// prefix kept for that place. Past [`tolerance::PREFIX_PLACES`] places
+    /// the cache starts afresh (a bound on memory, not a decision).
+    fn distances(
+        &mut self,
+        con: &Construction<Ball<f64>>,
+        lambda: Ball<f64>,
+        bits: &[bool],
+        upto: usize,
+        flat: u128,
+    ) -> Vec<Ball<f64>> {
+        let key = (lambda.m.to_bits(), lambda.r.to_bits(), flat);
+        if self.places.len() >= tolerance::PREFIX_PLACES && !self.places.contains_key(&key) {
+            self.places.clear();
+        }
+        let n = con.n_joints;
+        let place = self.places.entry(key).or_insert_with(|| Realized {
+            bits: Vec::new(),
+            levels: con.start(lambda),
+            distances: Vec::new(),
+        });
+        let common = place.bits.iter().zip(&bits[..upto]).take_while(|(a, b)| a == b).count();
+        if common < upto {
+            place.bits.truncate(common);
+            place.levels.truncate((common + 1) * n);
+            place.distances.truncate(common);
+        }
+        let tol = tolerance::FEASIBLE * con.scale;
+        while place.bits.len() < upto {
+            let k = place.bits.len();
+            place.levels.extend_from_within(k * n..(k + 1) * n);
+            let (dk, placed) = con.place_step(&mut place.levels[(k + 1) * n..], k, bits[k], flat >> k & 1 == 1, tol);
+            if placed.is_err() {
+                place.levels.truncate((k + 1) * n);
+                let mut out = place.distances.clone();
+                out.push(dk);
+                return out;
+            }
+            place.distances.push(dk);
+            place.bits.push(bits[k]);
+        }
+        let mut out = Vec::with_capacity(upto + 1);
+        out.extend_from_slice(&place.distances[..upto]);
+        out.push(con.base_distance(&place.levels[upto * n..(upto + 1) * n], upto));
+        out
+    }
+}
+
+/// An end's λ in double-double depends on its f64 λ, its first flat event
+/// and the type bits before that step.
+type RefineKey = ([u64; 2], Event, u128);
+
+/// The type bits before step `step` as one word (`None` past 128 steps).
+fn prefix_word(bits: &[bool], step: usize) -> Option<u128> {
+    (step <= 128).then(|| bits[..step].iter().enumerate().fold(0u128, |a, (i, &b)| a | (u128::from(b) << i)))
+}
 
 /// The double-double constructions, built together on first use.
 #[derive(Debug, Clone)]
@@ -124,7 +256,8 @@ impl Certifier {
             linkage: linkage.clone(),
             dec: dec.clone(),
             kinds: Vec::new(),
-            brackets: RefCell::new(HashMap::new()),
+            brackets: RefCell::new(WordMap::default()),
+            refined: RefCell::new(WordMap::default()),
             estimated: Cell::new(0),
         };
         // Unequal sides proven in f64 balls are unequal in double-double
@@ -215,9 +348,39 @@ impl Certifier {
     /// [`Self::slack_sign`] for several (step, kind) questions at one place,
     /// sharing the realizations.
     pub fn slack_signs(&self, bits: &[bool], at: At, questions: &[(usize, Kind)]) -> Vec<Sign> {
+        self.slack_signs_in(None, bits, at, questions)
+    }
+
+    /// [`Self::slack_signs`], realizing in f64 balls from the prefixes kept
+    /// in `prefixes` (a sweep's; see [`Prefixes`]) where given.
+    pub fn slack_signs_in(
+        &self,
+        prefixes: Option<&mut Prefixes>,
+        bits: &[bool],
+        at: At,
+        questions: &[(usize, Kind)],
+    ) -> Vec<Sign> {
         let upto = questions.iter().map(|&(k, _)| k).max().unwrap_or(0);
         let lambda = Dd::new(at.lambda);
-        let fast = self.evaluate(&self.f64_balls, &self.f64_plain, bits, at, lambda, upto, questions, true);
+        let flat: Vec<usize> = at.events.iter().map(|e| e.step).filter(|&s| s < upto).collect();
+        let mask = at.events.iter().try_fold(0u128, |m, e| (e.step < 128).then(|| m | 1 << e.step));
+        let mut prefixes = prefixes;
+        let mut enclose = |l: Ball<f64>| match (prefixes.as_deref_mut(), mask) {
+            // Below two steps there is no prefix worth keeping.
+            (Some(p), Some(mask)) if (2..128).contains(&upto) => p.distances(&self.f64_balls, l, bits, upto, mask),
+            _ => self.f64_balls.base_distances_flat(l, bits, upto, &flat),
+        };
+        let fast = self.evaluate(
+            &self.f64_balls,
+            &self.f64_plain,
+            bits,
+            at,
+            lambda,
+            upto,
+            questions,
+            &flat,
+            Some(&mut enclose),
+        );
         if fast.iter().all(|v| v.proven.is_some()) {
             return fast.into_iter().map(|v| v.proven.expect("all proven")).collect();
         }
@@ -232,7 +395,9 @@ impl Certifier {
         let Some(dd) = self.dd_constructions() else {
             return fast.iter().map(|f| f.proven.unwrap_or(Sign::Zero)).collect();
         };
-        let fine = self.evaluate(&dd.balls, &dd.plain, bits, at, refined, upto, questions, balls);
+        let mut enclose = |l: Ball<Dd>| dd.balls.base_distances_flat(l, bits, upto, &flat);
+        let enclose: Option<&mut dyn FnMut(Ball<Dd>) -> Vec<Ball<Dd>>> = if balls { Some(&mut enclose) } else { None };
+        let fine = self.evaluate(&dd.balls, &dd.plain, bits, at, refined, upto, questions, &flat, enclose);
         fast.iter().zip(&fine).map(|(f, d)| f.proven.or(d.proven).unwrap_or_else(|| self.estimate(f, d))).collect()
     }
 
@@ -262,9 +427,10 @@ impl Certifier {
     /// sides, where the folded slack is the base distance d itself — d zero
     /// to double-double resolution: a degenerate step whose base joints
     /// coincide (its vertex turns freely, as in a folded rhombus).
-    pub fn closes(&self, bits: &[bool], lambda: f64, k: usize) -> Closes {
+    /// `prefixes` as in [`Self::slack_signs_in`].
+    pub fn closes(&self, prefixes: Option<&mut Prefixes>, bits: &[bool], lambda: f64, k: usize) -> Closes {
         let at = At { lambda, events: &[] };
-        let signs = self.slack_signs(bits, at, &[(k, Kind::Stretched), (k, Kind::Folded)]);
+        let signs = self.slack_signs_in(prefixes, bits, at, &[(k, Kind::Stretched), (k, Kind::Folded)]);
         let equal_sides = self.kinds(k).len() == 1;
         if signs.contains(&Sign::Negative) {
             Closes::No
@@ -280,6 +446,10 @@ impl Certifier {
     /// Each question's slack at `at` in `con`'s balls: its proven sign, and
     /// its midpoint (the plain value in `T`). Without a proven bracket of
     /// the end, nothing is proven and the midpoints are taken at `lambda`.
+    /// `flat`: the flat steps before `upto`; `enclose` computes the base
+    /// distances at the bracket (`None`: no bracket is sought, the balls
+    /// prove nothing). The caller passes `None` where even double-double
+    /// balls would not exclude zero.
     #[allow(clippy::too_many_arguments)]
     fn evaluate<T: Real>(
         &self,
@@ -290,17 +460,17 @@ impl Certifier {
         lambda: Dd,
         upto: usize,
         questions: &[(usize, Kind)],
-        balls: bool,
+        flat: &[usize],
+        enclose: Option<&mut dyn FnMut(Ball<T>) -> Vec<Ball<T>>>,
     ) -> Vec<Value> {
-        let bracket = if balls { self.bracket(con, bits, at, lambda) } else { None };
-        let flat: Vec<usize> = at.events.iter().map(|e| e.step).filter(|&s| s < upto).collect();
-        let enclosures = bracket.map(|l| con.base_distances_flat(l, bits, upto, &flat)).unwrap_or_default();
+        let bracket = if enclose.is_some() { self.bracket(con, bits, at, lambda) } else { None };
+        let enclosures = bracket.zip(enclose).map(|(l, f)| f(l)).unwrap_or_default();
         // The plain values are only needed where a ball proves nothing.
         let all_proven = questions.iter().all(|&(k, kind)| {
             enclosures.get(k).is_some_and(|&d| kind.slack_value(con.steps[k].r1, con.steps[k].r2, d).sign().is_some())
         });
         let values =
-            if all_proven { Vec::new() } else { plain.base_distances_flat(T::from_dd(lambda), bits, upto, &flat) };
+            if all_proven { Vec::new() } else { plain.base_distances_flat(T::from_dd(lambda), bits, upto, flat) };
         questions
             .iter()
             .map(|&(k, kind)| {
@@ -326,8 +496,7 @@ impl Certifier {
         let Some(&event) = at.events.first() else { return Some(Ball::exact(T::from_dd(lambda))) };
         // The search depends only on the bits before the flat step: cache it
         // (every later step asks about the same end).
-        let key = (event.step <= 128).then(|| {
-            let prefix = bits[..event.step].iter().enumerate().fold(0u128, |a, (i, &b)| a | (u128::from(b) << i));
+        let key = prefix_word(bits, event.step).map(|prefix| {
             let dd = T::UNIT_ROUNDOFF < f64::UNIT_ROUNDOFF;
             ([lambda.hi.to_bits(), lambda.lo.to_bits()], event, prefix, dd)
         });
@@ -387,8 +556,22 @@ impl Certifier {
     /// predicted from the last two (s_{k+1} ≈ s_k³ / s_{k-1}², quadratic
     /// convergence), is below the resolution, it is not computed (a noisy
     /// s_k only overstates it, so the stop is never early).
+    /// Each end is located once per type prefix (cached, see `refined`).
     fn refine_dd(&self, bits: &[bool], at: At, lambda: Dd) -> Dd {
-        let Some(event) = at.events.first() else { return lambda };
+        let Some(&event) = at.events.first() else { return lambda };
+        let key = prefix_word(bits, event.step).map(|p| ([lambda.hi.to_bits(), lambda.lo.to_bits()], event, p));
+        if let Some(x) = key.as_ref().and_then(|k| self.refined.borrow().get(k).copied()) {
+            return x;
+        }
+        let x = self.newton_dd(bits, event, lambda);
+        if let Some(k) = key {
+            self.refined.borrow_mut().insert(k, x);
+        }
+        x
+    }
+
+    /// The Newton iteration of [`Self::refine_dd`] for an end where `event` is flat.
+    fn newton_dd(&self, bits: &[bool], event: Event, lambda: Dd) -> Dd {
         let Some(dd) = self.dd_constructions() else { return lambda };
         let con = &dd.jets;
         let s = &con.steps[event.step];

@@ -309,12 +309,19 @@ fn apex_flat<T: Real>(
     let zero = T::zero();
     // h = d·√(dimensionless product): no product of lengths, so no overflow
     // or underflow at any scale f64 can represent.
-    let two_d = T::from_f64(2.0) * d;
-    let h2 = ((r1 + r2 + d) / two_d * (stretch.clamp_nonneg() / d))
-        * ((d + (r1 - r2).abs()) / two_d * (fold.clamp_nonneg() / d));
+    let (h2, along, ex, ey) = if T::APEX_BY_RECIPROCAL {
+        let inv = T::from_f64(1.0) / d;
+        let half_inv = inv * T::from_f64(0.5);
+        let h2 = ((r1 + r2 + d) * half_inv * (stretch.clamp_nonneg() * inv))
+            * ((d + (r1 - r2).abs()) * half_inv * (fold.clamp_nonneg() * inv));
+        (h2, (d + (r1 - r2) * ((r1 + r2) * inv)) * T::from_f64(0.5), e[0] * inv, e[1] * inv)
+    } else {
+        let two_d = T::from_f64(2.0) * d;
+        let h2 = ((r1 + r2 + d) / two_d * (stretch.clamp_nonneg() / d))
+            * ((d + (r1 - r2).abs()) / two_d * (fold.clamp_nonneg() / d));
+        (h2, (d + (r1 - r2) * ((r1 + r2) / d)) / T::from_f64(2.0), e[0] / d, e[1] / d)
+    };
     let h = if flat { zero } else { d * h2.sqrt() };
-    let along = (d + (r1 - r2) * ((r1 + r2) / d)) / T::from_f64(2.0);
-    let (ex, ey) = (e[0] / d, e[1] / d);
     let h = if plus { h } else { -h };
     Ok([pu[0] + along * ex - h * ey, pu[1] + along * ey + h * ex])
 }
@@ -546,30 +553,56 @@ impl<T: Real> Construction<T> {
         tol: f64,
         mut distances: Option<&mut Vec<T>>,
     ) -> Result<Vec<P2<T>>, Unrealizable> {
-        let zero = T::zero();
-        let mut pos = vec![[zero, zero]; self.n_joints];
-        pos[self.base[1]] = [lambda, zero];
-        for (k, s) in self.steps.iter().enumerate().take(upto) {
-            // One base vector and length per step: recorded, then built on.
-            let e = sub(pos[s.w], pos[s.u]);
-            let dk = norm(e);
+        let mut pos = self.start(lambda);
+        for (k, &plus) in bits.iter().enumerate().take(upto.min(self.steps.len())) {
+            let (dk, placed) = self.place_step(&mut pos, k, plus, flat.contains(&k), tol);
             if let Some(d) = distances.as_deref_mut() {
                 d.push(dk);
             }
-            let v = apex_flat(pos[s.u], e, dk, s.r1, s.r2, bits[k], tol, flat.contains(&k)).map_err(|e| match e {
-                Some(slack) => Unrealizable::Infeasible { step: k, slack },
-                None => Unrealizable::Degenerate { step: k },
-            })?;
-            pos[s.vertex] = v;
-            for (pivot, list) in [(s.u, &s.members_u), (s.w, &s.members_w)] {
-                let p = pos[pivot];
-                let e = sub(v, p);
-                for m in list {
-                    pos[m.joint] = [p[0] + m.alpha * e[0] - m.beta * e[1], p[1] + m.alpha * e[1] + m.beta * e[0]];
-                }
-            }
+            placed?;
         }
         Ok(pos)
+    }
+
+    /// The joint positions before any step: base joint b at (λ, 0), every
+    /// other joint at the origin.
+    pub fn start(&self, lambda: T) -> Vec<P2<T>> {
+        let zero = T::zero();
+        let mut pos = vec![[zero, zero]; self.n_joints];
+        pos[self.base[1]] = [lambda, zero];
+        pos
+    }
+
+    /// Step `k` on positions where the steps before it are placed: its base
+    /// distance d_k, and its vertex and members placed in `pos` (`plus` its
+    /// orientation, `flat` placed exactly flat, slack down to `-tol` clamped
+    /// to flat), or why it cannot be (then `pos` is unchanged).
+    pub fn place_step(
+        &self,
+        pos: &mut [P2<T>],
+        k: usize,
+        plus: bool,
+        flat: bool,
+        tol: f64,
+    ) -> (T, Result<(), Unrealizable>) {
+        let s = &self.steps[k];
+        // One base vector and length per step: recorded, then built on.
+        let e = sub(pos[s.w], pos[s.u]);
+        let dk = norm(e);
+        let v = match apex_flat(pos[s.u], e, dk, s.r1, s.r2, plus, tol, flat) {
+            Ok(v) => v,
+            Err(Some(slack)) => return (dk, Err(Unrealizable::Infeasible { step: k, slack })),
+            Err(None) => return (dk, Err(Unrealizable::Degenerate { step: k })),
+        };
+        pos[s.vertex] = v;
+        for (pivot, list) in [(s.u, &s.members_u), (s.w, &s.members_w)] {
+            let p = pos[pivot];
+            let e = sub(v, p);
+            for m in list {
+                pos[m.joint] = [p[0] + m.alpha * e[0] - m.beta * e[1], p[1] + m.alpha * e[1] + m.beta * e[0]];
+            }
+        }
+        (dk, Ok(()))
     }
 
     /// Base distance d_k = |u_k w_k| of step `k` in a realization (prefix).

@@ -286,3 +286,7 @@ pub fn same_drawn_point(half_distance: f64, half_magnitude: f64, half_scale: f64
     let resolution = DRAWN_RESOLUTION_ULPS * f64::EPSILON * half_magnitude;
     half_distance <= COINCIDENT * half_scale || half_distance <= resolution
 }
+
+/// A sweep keeps the realized prefixes of at most this many places
+/// (`certify::Prefixes`), then starts afresh: a bound on memory, not a decision.
+pub const PREFIX_PLACES: usize = 4096;
