@@ -73,13 +73,14 @@ impl Document {
             (None, None, scene.name.clone())
         };
         let text = text.unwrap_or_else(|| crate::generate::to_toml(scene));
-        let parsed = parse_scene(&text, &scene.source, &default_name).ok();
-        let (doc, scene) = match (text.parse::<DocumentMut>(), parsed) {
-            (Ok(doc), Some(parsed)) => (doc, parsed),
-            // The file changed since it was read, or cannot be kept as written: start from the scene.
+        // The text must state this very scene (not so for a scene changed in code).
+        let parsed = parse_scene(&text, &scene.source, &default_name).ok().filter(|p| p == scene);
+        let (doc, scene, file) = match (text.parse::<DocumentMut>(), parsed) {
+            (Ok(doc), Some(parsed)) => (doc, parsed, file),
+            // Start from the scene written out; never save that over a file it did not come from.
             _ => {
                 let text = crate::generate::to_toml(scene);
-                (text.parse().unwrap_or_default(), scene.clone())
+                (text.parse().unwrap_or_default(), scene.clone(), None)
             }
         };
         let stamp = file.as_deref().and_then(Stamp::of);

@@ -54,10 +54,11 @@ pub fn draw(frame: &mut Frame, app: &App, theme: Theme) {
             frame.render_widget(p, body);
         }
         Screen::Empty { analysis, why } => {
-            draw_empty(frame, analysis, ["nothing to explore", " no realization "], why, &selected, body, theme)
+            let heads = ["nothing to explore", " no realization ", "· the drawing (no realization) "];
+            draw_empty(frame, analysis, heads, why, &selected, body, theme)
         }
         Screen::Outside { analysis, why } => {
-            let heads = ["cannot explore: outside the handled class", " outside the class "];
+            let heads = ["cannot explore: outside the handled class", " outside the class ", "· the drawing "];
             draw_empty(frame, analysis, heads, why, &selected, body, theme)
         }
         Screen::Ready(m) => draw_model(frame, app, m, &selected, body, theme),
@@ -82,12 +83,12 @@ fn selected_joints(app: &App) -> Vec<usize> {
 }
 
 /// A scene with nothing to explore (no realization, or outside the class):
-/// the drawing, why (`heads`: the headline and the panel's title), and
+/// the drawing, why (`heads`: the headline, the panel's title, the drawing's), and
 /// every bar's length (stated ones marked).
 fn draw_empty(
     frame: &mut Frame,
     a: &Analysis,
-    heads: [&str; 2],
+    heads: [&str; 3],
     why: &str,
     selected: &[usize],
     area: Rect,
@@ -102,7 +103,7 @@ fn draw_empty(
     let (xb, yb) = equal_bounds(bounds_of(&pos), main);
     let title = Line::from(vec![
         Span::styled(format!(" {} ", a.scene.name), theme.title()),
-        Span::styled("· the drawing ", theme.dim()),
+        Span::styled(heads[2].to_string(), theme.dim()),
     ]);
     let canvas = braille(title, xb, yb, |ctx| {
         draw_bars(ctx, l, &pos, theme.bar());
@@ -527,14 +528,19 @@ fn draw_keys(frame: &mut Frame, app: &App, area: Rect, theme: Theme) {
     let mut used = 0usize;
     // Help and quit first, so they show however narrow the terminal; then
     // the edit toggle, then (while editing) the edit keys.
+    let editing = app.editor.on;
     let rank = |b: &&Binding| match (b.action, b.when) {
         (Action::Help | Action::Quit, _) => 0,
         (Action::ToggleEdit, _) => 1,
         (_, When::Edit) => 2,
-        _ => 3,
+        (Action::Undo | Action::Redo | Action::Save, _) if editing => 3,
+        _ => 4,
     };
     // Without a scene to explore only help, quit and the edit keys do anything.
-    let useful = |b: &&Binding| rank(b) < 3 || app.model().is_some() || b.when != When::Explore;
+    let edits = |b: &&Binding| {
+        b.when == When::Edit || matches!(b.action, Action::ToggleEdit | Action::Undo | Action::Redo | Action::Save)
+    };
+    let useful = |b: &&Binding| rank(b) == 0 || edits(b) || app.model().is_some();
     let mut bar: Vec<&Binding> = bindings(app.mode()).filter(|b| !b.bar.is_empty()).filter(useful).collect();
     bar.sort_by_key(rank);
     for b in bar {
