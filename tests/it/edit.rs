@@ -60,6 +60,10 @@ fn a_typed_or_nudged_bar_length_changes_the_space_as_the_closed_form_says() {
         assert_eq!(here.ty, before.ty, "BC = {bc}");
         let u = union(&a)[0];
         assert_eq!(here.lambda, before.lambda.clamp(u[0], u[1]), "BC = {bc}");
+        if here.lambda != before.lambda {
+            let note = a.message.as_deref().unwrap_or("");
+            assert!(note.contains("no longer reached") && note.contains(&here.ty.to_string()), "{note}");
+        }
     }
     // Nudges: the fine and coarse steps are powers of ten of the drawing (its diagonal is 4.8).
     assert_eq!(a.editor.steps, [0.01, 0.1]);
