@@ -3,17 +3,22 @@
 //! Everything the drawing shows is computed here, after each update and tick
 //! ([`Model::sync`]); the view only reads.
 
+use std::path::PathBuf;
+
 use nalgebra::{Rotation3, Vector3};
 
-use crate::analysis::{Analysis, Solved};
+use crate::analysis::{Analysis, Solved, analyse, nearest_attainable};
 use crate::cayley_vector::cayley_vector;
 use crate::commands::{self, PathReport, Walk};
 use crate::motion::{Segment, Stepper, arcs, component_segments, locate, realization_at};
 use crate::realize::{Point2, Realization, RealizationType};
 use crate::report::fmt_num;
+use crate::scene::Scene;
 use crate::tolerance;
 
-use super::keymap::Action;
+use super::document::Document;
+use super::edit::Editor;
+use super::keymap::{Action, Mode};
 
 /// What the main area shows.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -198,43 +203,160 @@ pub enum Screen {
         analysis: Box<Analysis>,
         why: String,
     },
+    /// Outside the handled class (2-dof, rigid, not tree-decomposable): the drawing, and why.
+    Outside {
+        analysis: Box<Analysis>,
+        why: String,
+    },
     Ready(Box<Model>),
+}
+
+/// What a line of typed input is for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PromptKind {
+    /// `g`: a λ or `TYPE@λ`.
+    GoTo,
+    /// `/`: a joint or bar name.
+    Select,
+    /// `=`: the selected joint's `x, y` or bar's length.
+    Value,
+}
+
+/// A line of input being typed.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Prompt {
+    pub kind: PromptKind,
+    pub text: String,
+}
+
+/// An analysis to run (on the solver thread, or inline in tests): the
+/// latest asked for wins, older results are dropped.
+pub struct Job {
+    id: u64,
+    scene: Scene,
+    base: Option<[usize; 2]>,
+}
+
+/// A finished [`Job`].
+pub struct Done {
+    id: u64,
+    result: Result<Analysis, String>,
+}
+
+impl Job {
+    /// Analyse (errors in words).
+    pub fn run(self) -> Done {
+        Done { id: self.id, result: analyse(self.scene, self.base).map_err(|e| e.to_string()) }
+    }
+}
+
+/// What the exploration was at, carried over to the next analysis of the scene (an edit, a reload).
+#[derive(Clone, Debug)]
+pub struct Carry {
+    pub at: Realization,
+    pub view: View,
+    pub camera: Camera,
+    pub traces: Traces,
+    pub step: f64,
 }
 
 pub struct App {
     pub screen: Screen,
     pub help: bool,
-    /// A line of input being typed after `g`.
-    pub input: Option<String>,
+    /// A line of input being typed (after `g`, `/` or `=`).
+    pub input: Option<Prompt>,
     /// A one-line message for the status bar (results, errors).
     pub message: Option<String>,
     pub quit: bool,
+    /// The scene as text: what edits change, save writes and reload reads.
+    pub doc: Document,
+    pub editor: Editor,
+    /// Why the scene file, changed on disk, was not taken; shown until it parses.
+    pub file_error: Option<String>,
+    /// Where a scene with no file is saved (the current directory).
+    pub save_dir: PathBuf,
+    base: Option<[usize; 2]>,
+    /// The analysis asked for and not yet handed out, and the ids asked and installed.
+    job: Option<Job>,
+    asked: u64,
+    installed: u64,
+    /// The exploration to restore when the next analysis can be explored.
+    carry: Option<Carry>,
 }
 
 impl App {
-    pub fn loading(scene: &str) -> App {
+    /// An app on `scene`, its analysis asked for (see [`App::take_job`]).
+    pub fn new(scene: Scene, base: Option<[usize; 2]>) -> App {
+        let mut app = App::blank(&scene, base);
+        app.reanalyse();
+        app
+    }
+
+    fn blank(scene: &Scene, base: Option<[usize; 2]>) -> App {
+        let doc = Document::of(scene);
         App {
-            screen: Screen::Loading { scene: scene.to_string() },
+            screen: Screen::Loading { scene: scene.name.clone() },
             help: false,
             input: None,
             message: None,
             quit: false,
+            editor: Editor::new(&doc.scene),
+            doc,
+            file_error: None,
+            save_dir: PathBuf::from("."),
+            base,
+            job: None,
+            asked: 0,
+            installed: 0,
+            carry: None,
         }
     }
 
-    /// Take the finished analysis (moved in, never copied).
-    pub fn loaded(&mut self, analysis: Result<Analysis, String>) {
-        let scene = match &self.screen {
-            Screen::Loading { scene, .. } => scene.clone(),
-            _ => String::new(),
-        };
+    /// An app on an analysis already made.
+    pub fn ready(analysis: Analysis) -> App {
+        let mut app = App::blank(&analysis.scene, None);
+        app.install(Ok(analysis));
+        app
+    }
+
+    /// Ask for an analysis of the document's scene.
+    pub(super) fn reanalyse(&mut self) {
+        self.asked += 1;
+        self.job = Some(Job { id: self.asked, scene: self.doc.scene.clone(), base: self.base });
+    }
+
+    /// The analysis to run next, if one was asked for since the last call.
+    pub fn take_job(&mut self) -> Option<Job> {
+        self.job.take()
+    }
+
+    /// Whether an analysis asked for has not arrived yet.
+    pub fn busy(&self) -> bool {
+        self.installed != self.asked
+    }
+
+    /// Take a finished analysis, unless a newer one was asked for since.
+    pub fn finish(&mut self, done: Done) {
+        if done.id == self.asked {
+            self.installed = done.id;
+            self.install(done.result);
+        }
+    }
+
+    /// Show an analysis (moved in, never copied); an explorable one keeps
+    /// the cursor on the nearest realization to the one before.
+    fn install(&mut self, analysis: Result<Analysis, String>) {
+        let before = std::mem::replace(&mut self.screen, Screen::Loading { scene: String::new() });
+        if let Screen::Ready(m) = &before {
+            self.carry = Some(m.carry());
+        }
+        drop(before);
         self.screen = match analysis {
-            Err(message) => Screen::Failed { scene, message },
+            Err(message) => Screen::Failed { scene: self.doc.scene.name.clone(), message },
             Ok(a) => match &a.outcome {
                 Err(outside) => {
-                    let message =
-                        format!("outside the handled class: {}", crate::present::outside(outside, &a.linkage));
-                    Screen::Failed { scene: a.scene.name.clone(), message }
+                    let why = format!("outside the handled class: {}", crate::present::outside(outside, &a.linkage));
+                    Screen::Outside { analysis: Box::new(a), why }
                 }
                 Ok(solved) => match commands::require_component(&a.linkage, solved).err() {
                     Some(why) => Screen::Empty { analysis: Box::new(a), why },
@@ -242,12 +364,17 @@ impl App {
                 },
             },
         };
+        if let (Screen::Ready(m), Some(c)) = (&mut self.screen, self.carry.take()) {
+            if let Some(note) = m.carry_from(&c) {
+                self.message = Some(note);
+            }
+            m.sync();
+        }
     }
 
-    pub fn ready(analysis: Analysis) -> App {
-        let mut app = App::loading(&analysis.scene.name);
-        app.loaded(Ok(analysis));
-        app
+    /// Which keys apply: editing or exploring.
+    pub fn mode(&self) -> Mode {
+        if self.editor.on { Mode::Edit } else { Mode::Explore }
     }
 
     pub fn model(&self) -> Option<&Model> {
@@ -267,14 +394,17 @@ impl App {
             self.help = !self.help;
             return;
         }
-        if self.help && action == Action::FollowComponent {
+        if self.help && matches!(action, Action::FollowComponent | Action::ExitEdit) {
             self.help = false;
+            return;
+        }
+        if self.edit_update(action) {
             return;
         }
         let Screen::Ready(m) = &mut self.screen else { return };
         self.message = None;
         match action {
-            Action::GoTo => self.input = Some(String::new()),
+            Action::GoTo => self.input = Some(Prompt { kind: PromptKind::GoTo, text: String::new() }),
             other => match m.apply(other) {
                 Err(e) => self.message = Some(e),
                 Ok(Some(note)) => self.message = Some(note),
@@ -284,25 +414,41 @@ impl App {
         m.sync();
     }
 
-    /// A character typed while the `g` prompt is open; Enter applies it.
+    /// A character typed while a prompt is open; Enter applies it.
     pub fn type_char(&mut self, c: char) {
-        if let Some(s) = &mut self.input {
-            s.push(c);
+        if let Some(p) = &mut self.input {
+            p.text.push(c);
         }
     }
     pub fn backspace(&mut self) {
-        if let Some(s) = &mut self.input {
-            s.pop();
+        if let Some(p) = &mut self.input {
+            p.text.pop();
         }
     }
     pub fn cancel_input(&mut self) {
         self.input = None;
     }
     pub fn submit_input(&mut self) {
-        let Some(text) = self.input.take() else { return };
-        if let Screen::Ready(m) = &mut self.screen {
-            self.message = m.go_to(text.trim()).err();
-            m.sync();
+        let Some(Prompt { kind, text }) = self.input.take() else { return };
+        let text = text.trim();
+        match kind {
+            PromptKind::GoTo => {
+                if let Screen::Ready(m) = &mut self.screen {
+                    self.message = m.go_to(text).err();
+                    m.sync();
+                }
+            }
+            PromptKind::Select => {
+                if let Err(e) = self.select_named(text) {
+                    self.message = Some(e);
+                }
+            }
+            PromptKind::Value => {
+                self.message = match self.set_value(text) {
+                    Ok(note) => note,
+                    Err(e) => Some(e),
+                }
+            }
         }
     }
 
@@ -410,6 +556,58 @@ impl Model {
             &s.flat_from
         } else {
             &[]
+        }
+    }
+
+    /// What to carry over to the next analysis of the scene.
+    fn carry(&self) -> Carry {
+        Carry {
+            at: self.current(),
+            view: self.view,
+            camera: self.camera,
+            traces: self.traces.clone(),
+            step: self.pace.step,
+        }
+    }
+
+    /// Take over the exploration `c` was at: the view, camera, traces and
+    /// step where they still fit, and the realization of the same type at
+    /// the nearest λ (a lazy analysis walks its component first). When no
+    /// interval of that type is left the cursor stays at the drawn one and
+    /// the note says the realization vanished; a note also says when λ moved.
+    fn carry_from(&mut self, c: &Carry) -> Option<String> {
+        self.view = c.view;
+        let n_ccv = self.solved().complexity.ccv.len();
+        if c.camera.axes.iter().all(|&a| a < n_ccv) {
+            self.camera = c.camera;
+        }
+        if c.traces.traced.len() == self.traces.traced.len() {
+            self.traces = c.traces.clone();
+        }
+        self.pace.step = c.step.clamp(self.pace.extent * tolerance::TUI_MIN_STEP_FRACTION, self.pace.extent);
+        let scale = self.analysis.linkage.scale;
+        let s = solved_of_mut(&mut self.analysis);
+        if s.lazy {
+            s.include(&c.at);
+        }
+        let ty = &c.at.ty;
+        let found = nearest_attainable(&s.space, ty, c.at.lambda).and_then(|l| {
+            let i = locate(&s.space, &Realization { ty: ty.clone(), lambda: l }, scale)?;
+            Some((i, l))
+        });
+        match found {
+            Some((i, l)) => {
+                let k = s.components.of_interval[i];
+                self.enter_component(k, Some((i, l)));
+                (l != c.at.lambda).then(|| {
+                    format!(
+                        "{ty}: λ = {} is no longer reached; at the nearest, λ = {}",
+                        fmt_num(c.at.lambda),
+                        fmt_num(l)
+                    )
+                })
+            }
+            None => Some(format!("the realization {ty}@{} vanished: back at the drawn one", fmt_num(c.at.lambda))),
         }
     }
 
@@ -636,7 +834,32 @@ impl Model {
                 self.pace.step = (step / 2.0).max(self.pace.extent * tolerance::TUI_MIN_STEP_FRACTION)
             }
             Action::Reset => self.reset(),
-            Action::GoTo | Action::Help | Action::Quit => {}
+            // Handled by the app: the prompt, help, quit, and the edits.
+            Action::GoTo
+            | Action::Help
+            | Action::Quit
+            | Action::ToggleEdit
+            | Action::Undo
+            | Action::Redo
+            | Action::Save
+            | Action::SelectNext
+            | Action::SelectPrev
+            | Action::SelectByName
+            | Action::MoveLeft
+            | Action::MoveRight
+            | Action::MoveUp
+            | Action::MoveDown
+            | Action::MoveLeftFar
+            | Action::MoveRightFar
+            | Action::MoveUpFar
+            | Action::MoveDownFar
+            | Action::Lengthen
+            | Action::Shorten
+            | Action::LengthenFar
+            | Action::ShortenFar
+            | Action::SetValue
+            | Action::DeleteBar
+            | Action::ExitEdit => {}
         }
         Ok(None)
     }

@@ -36,11 +36,33 @@ pub enum Action {
     Reset,
     Help,
     Quit,
+    ToggleEdit,
+    Undo,
+    Redo,
+    Save,
+    SelectNext,
+    SelectPrev,
+    SelectByName,
+    MoveLeft,
+    MoveRight,
+    MoveUp,
+    MoveDown,
+    MoveLeftFar,
+    MoveRightFar,
+    MoveUpFar,
+    MoveDownFar,
+    Lengthen,
+    Shorten,
+    LengthenFar,
+    ShortenFar,
+    SetValue,
+    DeleteBar,
+    ExitEdit,
 }
 
 impl Action {
     /// Every action, in declaration order (the keymap test checks each has a key).
-    pub const ALL: [Action; 30] = [
+    pub const ALL: [Action; 52] = [
         Action::StepForward,
         Action::StepBack,
         Action::LargeForward,
@@ -71,6 +93,28 @@ impl Action {
         Action::Reset,
         Action::Help,
         Action::Quit,
+        Action::ToggleEdit,
+        Action::Undo,
+        Action::Redo,
+        Action::Save,
+        Action::SelectNext,
+        Action::SelectPrev,
+        Action::SelectByName,
+        Action::MoveLeft,
+        Action::MoveRight,
+        Action::MoveUp,
+        Action::MoveDown,
+        Action::MoveLeftFar,
+        Action::MoveRightFar,
+        Action::MoveUpFar,
+        Action::MoveDownFar,
+        Action::Lengthen,
+        Action::Shorten,
+        Action::LengthenFar,
+        Action::ShortenFar,
+        Action::SetValue,
+        Action::DeleteBar,
+        Action::ExitEdit,
     ];
 }
 
@@ -80,6 +124,8 @@ pub enum Key {
     Char(char),
     Ctrl(char),
     Code(KeyCode),
+    /// A key with Shift held (Shift-arrows); a plain `Code` row takes any modifier.
+    Shift(KeyCode),
 }
 
 impl Key {
@@ -98,7 +144,10 @@ impl Key {
             Key::Code(KeyCode::Tab) => "Tab".into(),
             Key::Code(KeyCode::BackTab) => "S-Tab".into(),
             Key::Code(KeyCode::Esc) => "Esc".into(),
+            Key::Code(KeyCode::Enter) => "Enter".into(),
+            Key::Code(KeyCode::Delete) => "Del".into(),
             Key::Code(code) => code.to_string(),
+            Key::Shift(code) => format!("S-{}", Key::Code(code).name()),
         }
     }
 
@@ -108,6 +157,7 @@ impl Key {
             Key::Char(c) => KeyEvent::new(KeyCode::Char(c), KeyModifiers::NONE),
             Key::Ctrl(c) => KeyEvent::new(KeyCode::Char(c), KeyModifiers::CONTROL),
             Key::Code(code) => KeyEvent::new(code, KeyModifiers::NONE),
+            Key::Shift(code) => KeyEvent::new(code, KeyModifiers::SHIFT),
         }
     }
 
@@ -116,8 +166,36 @@ impl Key {
         match self {
             Key::Char(c) => !ctrl && ev.code == KeyCode::Char(c),
             Key::Ctrl(c) => ctrl && ev.code == KeyCode::Char(c),
-            Key::Code(code) => ev.code == code,
+            Key::Shift(code) => ev.modifiers.contains(KeyModifiers::SHIFT) && ev.code == code,
+            // With Shift held, an arrow is its Shift row's.
+            Key::Code(code) => {
+                ev.code == code && !(SHIFTED.contains(&code) && ev.modifiers.contains(KeyModifiers::SHIFT))
+            }
         }
+    }
+}
+
+/// Keys with a Shift row of their own (Shift-arrows move a joint farther).
+const SHIFTED: [KeyCode; 4] = [KeyCode::Left, KeyCode::Right, KeyCode::Up, KeyCode::Down];
+
+/// What the keys do: explore the motion, or edit the scene.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Mode {
+    Explore,
+    Edit,
+}
+
+/// The modes a row works in.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum When {
+    Explore,
+    Edit,
+    Both,
+}
+
+impl When {
+    pub fn includes(self, mode: Mode) -> bool {
+        matches!((self, mode), (When::Both, _) | (When::Explore, Mode::Explore) | (When::Edit, Mode::Edit))
     }
 }
 
@@ -129,6 +207,8 @@ pub struct Binding {
     pub help: &'static str,
     /// The word shown in the key bar at the bottom; empty: only in the help overlay.
     pub bar: &'static str,
+    /// The modes it works in.
+    pub when: When,
 }
 
 impl Binding {
@@ -143,11 +223,22 @@ impl Binding {
     }
 }
 
+/// A row for exploring.
 const fn bind(keys: &'static [Key], action: Action, help: &'static str, bar: &'static str) -> Binding {
-    Binding { keys, action, help, bar }
+    Binding { keys, action, help, bar, when: When::Explore }
 }
 
-use Key::{Char, Code, Ctrl};
+/// A row for both modes.
+const fn both(keys: &'static [Key], action: Action, help: &'static str, bar: &'static str) -> Binding {
+    Binding { keys, action, help, bar, when: When::Both }
+}
+
+/// A row for editing.
+const fn edit(keys: &'static [Key], action: Action, help: &'static str, bar: &'static str) -> Binding {
+    Binding { keys, action, help, bar, when: When::Edit }
+}
+
+use Key::{Char, Code, Ctrl, Shift};
 
 /// The whole table, in the order the help overlay lists it.
 pub const BINDINGS: &[Binding] = &[
@@ -155,9 +246,9 @@ pub const BINDINGS: &[Binding] = &[
     bind(&[Code(KeyCode::Left), Char('h')], Action::StepBack, "step back", ""),
     bind(&[Char('L'), Code(KeyCode::PageDown)], Action::LargeForward, "large step forward", ""),
     bind(&[Char('H'), Code(KeyCode::PageUp)], Action::LargeBack, "large step back", ""),
-    bind(&[Char(']')], Action::NextEndpoint, "next interval endpoint", "endpoint"),
-    bind(&[Char('[')], Action::PrevEndpoint, "previous interval endpoint", ""),
-    bind(&[Char(' ')], Action::PlayPause, "play / pause", "play"),
+    both(&[Char(']')], Action::NextEndpoint, "next interval endpoint", "endpoint"),
+    both(&[Char('[')], Action::PrevEndpoint, "previous interval endpoint", ""),
+    both(&[Char(' ')], Action::PlayPause, "play / pause", "play"),
     bind(&[Char('n'), Code(KeyCode::Tab)], Action::NextComponent, "next component", "component"),
     bind(&[Char('p'), Code(KeyCode::BackTab)], Action::PrevComponent, "previous component", ""),
     bind(&[Char('g')], Action::GoTo, "go to λ or TYPE@λ", "go to"),
@@ -170,7 +261,7 @@ pub const BINDINGS: &[Binding] = &[
     bind(&[Char('t')], Action::ToggleTraces, "traces on / off", "traces"),
     bind(&[Char('j')], Action::NextJoint, "select next joint", ""),
     bind(&[Char('J')], Action::ToggleJointTrace, "trace / untrace that joint", ""),
-    bind(&[Char('v')], Action::SwitchView, "linkage / Cayley curve", "view"),
+    both(&[Char('v')], Action::SwitchView, "linkage / Cayley curve", "view"),
     bind(&[Char('r')], Action::RotateLeft, "rotate curve left", ""),
     bind(&[Char('R')], Action::RotateRight, "rotate curve right", ""),
     bind(&[Char('e')], Action::TiltUp, "tilt curve up", ""),
@@ -178,14 +269,41 @@ pub const BINDINGS: &[Binding] = &[
     bind(&[Char('x')], Action::NextAxes, "next curve axes (CCV)", ""),
     bind(&[Char('+'), Char('=')], Action::StepBigger, "double the step", ""),
     bind(&[Char('-')], Action::StepSmaller, "halve the step", ""),
-    bind(&[Char('0'), Char('d')], Action::Reset, "reset to drawn", ""),
-    bind(&[Char('?')], Action::Help, "this help", "help"),
-    bind(&[Char('q'), Ctrl('c')], Action::Quit, "quit", "quit"),
+    both(&[Char('0'), Char('d')], Action::Reset, "reset to drawn", ""),
+    both(&[Char('?')], Action::Help, "this help", "help"),
+    both(&[Char('q'), Ctrl('c')], Action::Quit, "quit", "quit"),
+    both(&[Char('m')], Action::ToggleEdit, "edit mode on / off", "edit"),
+    both(&[Char('u')], Action::Undo, "undo an edit", "undo"),
+    both(&[Ctrl('r'), Char('U')], Action::Redo, "redo an edit", ""),
+    both(&[Char('w'), Ctrl('s')], Action::Save, "save the scene file", "save"),
+    edit(&[Code(KeyCode::Tab)], Action::SelectNext, "select next joint / bar", "select"),
+    edit(&[Code(KeyCode::BackTab)], Action::SelectPrev, "select previous joint / bar", ""),
+    edit(&[Char('/')], Action::SelectByName, "select by name (C or B-C)", ""),
+    edit(&[Code(KeyCode::Left), Char('h')], Action::MoveLeft, "move joint left (fine)", ""),
+    edit(&[Code(KeyCode::Right), Char('l')], Action::MoveRight, "move joint right", "move"),
+    edit(&[Code(KeyCode::Up), Char('k')], Action::MoveUp, "move joint up", ""),
+    edit(&[Code(KeyCode::Down), Char('j')], Action::MoveDown, "move joint down", ""),
+    edit(&[Shift(KeyCode::Left), Char('H')], Action::MoveLeftFar, "move joint left (coarse)", ""),
+    edit(&[Shift(KeyCode::Right), Char('L')], Action::MoveRightFar, "move joint right (coarse)", ""),
+    edit(&[Shift(KeyCode::Up), Char('K')], Action::MoveUpFar, "move joint up (coarse)", ""),
+    edit(&[Shift(KeyCode::Down), Char('J')], Action::MoveDownFar, "move joint down (coarse)", ""),
+    edit(&[Char('+')], Action::Lengthen, "lengthen bar (fine)", "length"),
+    edit(&[Char('-')], Action::Shorten, "shorten bar (fine)", ""),
+    edit(&[Char('>')], Action::LengthenFar, "lengthen bar (coarse)", ""),
+    edit(&[Char('<')], Action::ShortenFar, "shorten bar (coarse)", ""),
+    edit(&[Char('='), Code(KeyCode::Enter)], Action::SetValue, "type x, y or a length", "set"),
+    edit(&[Code(KeyCode::Delete), Char('X')], Action::DeleteBar, "delete the bar", ""),
+    edit(&[Code(KeyCode::Esc)], Action::ExitEdit, "back to exploring; close help", ""),
 ];
 
-/// The action for a key press, if any.
-pub fn action_for(ev: &KeyEvent) -> Option<Action> {
-    BINDINGS.iter().find(|b| b.keys.iter().any(|k| k.matches(ev))).map(|b| b.action)
+/// The rows that work in `mode`.
+pub fn bindings(mode: Mode) -> impl Iterator<Item = &'static Binding> {
+    BINDINGS.iter().filter(move |b| b.when.includes(mode))
+}
+
+/// The action for a key press in `mode`, if any.
+pub fn action_for(mode: Mode, ev: &KeyEvent) -> Option<Action> {
+    bindings(mode).find(|b| b.keys.iter().any(|k| k.matches(ev))).map(|b| b.action)
 }
 
 #[cfg(test)]
@@ -198,14 +316,33 @@ mod tests {
 
     #[test]
     fn keys_map_to_their_actions() {
-        assert_eq!(action_for(&key(KeyCode::Right)), Some(Action::StepForward));
-        assert_eq!(action_for(&key(KeyCode::Char('l'))), Some(Action::StepForward));
-        assert_eq!(action_for(&key(KeyCode::Char('L'))), Some(Action::LargeForward));
-        assert_eq!(action_for(&key(KeyCode::Char(']'))), Some(Action::NextEndpoint));
-        assert_eq!(action_for(&key(KeyCode::Char('q'))), Some(Action::Quit));
-        assert_eq!(action_for(&KeyEvent::new(KeyCode::Char('c'), KeyModifiers::CONTROL)), Some(Action::Quit));
-        assert_eq!(action_for(&key(KeyCode::Char('c'))), Some(Action::ClearMarks));
-        assert_eq!(action_for(&key(KeyCode::Char('Z'))), None);
+        assert_eq!(action_for(Mode::Explore, &key(KeyCode::Right)), Some(Action::StepForward));
+        assert_eq!(action_for(Mode::Explore, &key(KeyCode::Char('l'))), Some(Action::StepForward));
+        assert_eq!(action_for(Mode::Explore, &key(KeyCode::Char('L'))), Some(Action::LargeForward));
+        assert_eq!(action_for(Mode::Explore, &key(KeyCode::Char(']'))), Some(Action::NextEndpoint));
+        assert_eq!(action_for(Mode::Explore, &key(KeyCode::Char('q'))), Some(Action::Quit));
+        assert_eq!(
+            action_for(Mode::Explore, &KeyEvent::new(KeyCode::Char('c'), KeyModifiers::CONTROL)),
+            Some(Action::Quit)
+        );
+        // Edit mode: arrows move the joint, Shift-arrows farther; Tab selects; q still quits.
+        assert_eq!(action_for(Mode::Edit, &key(KeyCode::Right)), Some(Action::MoveRight));
+        assert_eq!(
+            action_for(Mode::Edit, &KeyEvent::new(KeyCode::Right, KeyModifiers::SHIFT)),
+            Some(Action::MoveRightFar)
+        );
+        assert_eq!(action_for(Mode::Edit, &key(KeyCode::Tab)), Some(Action::SelectNext));
+        assert_eq!(
+            action_for(Mode::Edit, &KeyEvent::new(KeyCode::BackTab, KeyModifiers::SHIFT)),
+            Some(Action::SelectPrev)
+        );
+        assert_eq!(action_for(Mode::Edit, &key(KeyCode::Char('q'))), Some(Action::Quit));
+        assert_eq!(action_for(Mode::Edit, &key(KeyCode::Char('g'))), None, "go to is for exploring");
+        assert_eq!(action_for(Mode::Explore, &key(KeyCode::Char('m'))), Some(Action::ToggleEdit));
+        assert_eq!(action_for(Mode::Edit, &key(KeyCode::Char('m'))), Some(Action::ToggleEdit));
+        assert_eq!(action_for(Mode::Explore, &key(KeyCode::Char('X'))), None, "no deleting while exploring");
+        assert_eq!(action_for(Mode::Explore, &key(KeyCode::Char('c'))), Some(Action::ClearMarks));
+        assert_eq!(action_for(Mode::Explore, &key(KeyCode::Char('Z'))), None);
     }
 
     /// `Action::ALL` is every variant, in order: this match has no wildcard,
@@ -242,6 +379,28 @@ mod tests {
             Action::Reset => 27,
             Action::Help => 28,
             Action::Quit => 29,
+            Action::ToggleEdit => 30,
+            Action::Undo => 31,
+            Action::Redo => 32,
+            Action::Save => 33,
+            Action::SelectNext => 34,
+            Action::SelectPrev => 35,
+            Action::SelectByName => 36,
+            Action::MoveLeft => 37,
+            Action::MoveRight => 38,
+            Action::MoveUp => 39,
+            Action::MoveDown => 40,
+            Action::MoveLeftFar => 41,
+            Action::MoveRightFar => 42,
+            Action::MoveUpFar => 43,
+            Action::MoveDownFar => 44,
+            Action::Lengthen => 45,
+            Action::Shorten => 46,
+            Action::LengthenFar => 47,
+            Action::ShortenFar => 48,
+            Action::SetValue => 49,
+            Action::DeleteBar => 50,
+            Action::ExitEdit => 51,
         }
     }
 
@@ -252,9 +411,11 @@ mod tests {
             let rows: Vec<&Binding> = BINDINGS.iter().filter(|b| b.action == a).collect();
             assert_eq!(rows.len(), 1, "{a:?} has {} rows in the key table", rows.len());
             assert!(!rows[0].keys.is_empty(), "{a:?} has no key");
-            // And its keys reach it.
-            for k in rows[0].keys {
-                assert_eq!(action_for(&k.event()), Some(a), "{k:?}");
+            // And its keys reach it in every mode it works in.
+            for mode in [Mode::Explore, Mode::Edit].into_iter().filter(|&m| rows[0].when.includes(m)) {
+                for k in rows[0].keys {
+                    assert_eq!(action_for(mode, &k.event()), Some(a), "{k:?} in {mode:?}");
+                }
             }
         }
         assert_eq!(BINDINGS.len(), Action::ALL.len());
@@ -263,14 +424,16 @@ mod tests {
     #[test]
     fn no_key_is_bound_twice() {
         // Compared as key presses, so `Char('c')` and `Code(KeyCode::Char('c'))` would collide too.
-        for b in BINDINGS {
-            for k in b.keys {
-                let ev = k.event();
-                let matching: Vec<Action> = BINDINGS
-                    .iter()
-                    .flat_map(|b2| b2.keys.iter().filter(|k2| k2.matches(&ev)).map(|_| b2.action))
-                    .collect();
-                assert_eq!(matching, vec![b.action], "{} is bound to {matching:?}", k.name());
+        // Within each mode: a key may mean different things in the two modes.
+        for mode in [Mode::Explore, Mode::Edit] {
+            for b in bindings(mode) {
+                for k in b.keys {
+                    let ev = k.event();
+                    let matching: Vec<Action> = bindings(mode)
+                        .flat_map(|b2| b2.keys.iter().filter(|k2| k2.matches(&ev)).map(|_| b2.action))
+                        .collect();
+                    assert_eq!(matching, vec![b.action], "{} is bound to {matching:?} in {mode:?}", k.name());
+                }
             }
         }
     }
@@ -282,7 +445,10 @@ mod tests {
         }
         assert_eq!(BINDINGS.iter().find(|b| b.action == Action::Quit).unwrap().label(), "q/Ctrl-c");
         assert_eq!(BINDINGS.iter().find(|b| b.action == Action::NextComponent).unwrap().label(), "n/Tab");
-        assert!(BINDINGS.iter().any(|b| b.action == Action::Quit && !b.bar.is_empty()));
-        assert!(BINDINGS.iter().any(|b| b.action == Action::Help && !b.bar.is_empty()));
+        for mode in [Mode::Explore, Mode::Edit] {
+            for a in [Action::Quit, Action::Help, Action::ToggleEdit] {
+                assert!(bindings(mode).any(|b| b.action == a && !b.bar.is_empty()), "{a:?} in the {mode:?} bar");
+            }
+        }
     }
 }

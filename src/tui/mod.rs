@@ -1,55 +1,82 @@
 //! The terminal UI: `ratatui` over `crossterm`. Event → action → update
 //! (which also makes everything the screen shows) → draw from `&App` (which
 //! only reads); the solver runs on a background thread so input stays
-//! responsive, and its analysis is moved into the app, never copied.
-//! The terminal is restored on quit, on Ctrl-C and on a panic (the hook
-//! installed by `ratatui::init`).
+//! responsive (the first analysis and every edit's and reload's), and its
+//! analysis is moved into the app, never copied. The scene's file is polled
+//! every [`WATCH`]. The terminal is restored on quit, on Ctrl-C and on a
+//! panic (the hook installed by `ratatui::init`).
 
 pub mod app;
+pub mod document;
+pub mod edit;
 pub mod keymap;
 pub mod theme;
 pub mod view;
 
 use std::sync::mpsc;
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 use ratatui::crossterm::event::{self, Event, KeyCode, KeyEventKind};
 
-use crate::analysis::analyse;
 use crate::scene::Scene;
-use app::App;
+use app::{App, Done, Job};
 use keymap::Action;
 use theme::Theme;
 
 /// How often an animation advances.
 const FRAME: Duration = Duration::from_millis(40);
 
+/// How often the scene's file is checked for changes (its time and length).
+pub const WATCH: Duration = Duration::from_millis(250);
+
 /// Run the UI on a scene until the user quits.
 pub fn run(scene: Scene, base: Option<[usize; 2]>) -> std::io::Result<()> {
-    let mut app = App::loading(&scene.name);
-    let (tx, rx) = mpsc::channel();
+    let mut app = App::new(scene, base);
+    let (jobs, job_rx) = mpsc::channel::<Job>();
+    let (done_tx, done) = mpsc::channel::<Done>();
+    // The solver: analyses the latest job asked for, skipping older ones.
     std::thread::spawn(move || {
-        let result = analyse(scene, base).map_err(|e| e.to_string());
-        let _ = tx.send(result);
+        while let Ok(mut job) = job_rx.recv() {
+            while let Ok(newer) = job_rx.try_recv() {
+                job = newer;
+            }
+            if done_tx.send(job.run()).is_err() {
+                break;
+            }
+        }
     });
     let theme = Theme::from_env();
     let mut terminal = ratatui::init();
-    let result = event_loop(&mut terminal, &mut app, &rx, theme);
+    let result = event_loop(&mut terminal, &mut app, Solver { jobs, done }, theme);
     ratatui::restore();
     result
+}
+
+/// The channels to and from the solver thread.
+struct Solver {
+    jobs: mpsc::Sender<Job>,
+    done: mpsc::Receiver<Done>,
 }
 
 fn event_loop(
     terminal: &mut ratatui::DefaultTerminal,
     app: &mut App,
-    rx: &mpsc::Receiver<Result<crate::analysis::Analysis, String>>,
+    solver: Solver,
     theme: Theme,
 ) -> std::io::Result<()> {
     let mut dirty = true;
+    let mut watched = Instant::now();
     while !app.quit {
-        if let Ok(result) = rx.try_recv() {
-            app.loaded(result);
+        if let Some(job) = app.take_job() {
+            let _ = solver.jobs.send(job);
+        }
+        while let Ok(done) = solver.done.try_recv() {
+            app.finish(done);
             dirty = true;
+        }
+        if watched.elapsed() >= WATCH {
+            watched = Instant::now();
+            dirty |= app.check_file();
         }
         if dirty {
             terminal.draw(|f| view::draw(f, app, theme))?;
@@ -58,10 +85,10 @@ fn event_loop(
         let waiting = matches!(app.screen, app::Screen::Loading { .. });
         let timeout = if app.animating() {
             FRAME
-        } else if waiting {
-            Duration::from_millis(50)
+        } else if waiting || app.busy() {
+            Duration::from_millis(20)
         } else {
-            Duration::from_secs(3600)
+            WATCH
         };
         if event::poll(timeout)? {
             match event::read()? {
@@ -82,7 +109,15 @@ fn event_loop(
     Ok(())
 }
 
-/// Route a key: the `g` prompt takes text; otherwise the key table decides.
+/// Run the analyses asked for here and now (what the solver thread does),
+/// for tests and scripts driving an [`App`] without a terminal.
+pub fn settle(app: &mut App) {
+    while let Some(job) = app.take_job() {
+        app.finish(job.run());
+    }
+}
+
+/// Route a key: a prompt takes text; otherwise the key table of the mode decides.
 pub fn handle_key(app: &mut App, key: event::KeyEvent) {
     if app.input.is_some() {
         match key.code {
@@ -95,7 +130,7 @@ pub fn handle_key(app: &mut App, key: event::KeyEvent) {
         }
         return;
     }
-    if let Some(action) = keymap::action_for(&key) {
+    if let Some(action) = keymap::action_for(app.mode(), &key) {
         app.update(action);
     }
 }

@@ -8,8 +8,9 @@ use ratatui::text::{Line, Span};
 use ratatui::widgets::canvas::{Canvas, Context, Line as Segment2, Points};
 use ratatui::widgets::{Block, Clear, Paragraph, Wrap};
 
-use super::app::{App, Model, Motion, Screen, View, unit_frame};
-use super::keymap::BINDINGS;
+use super::app::{App, Model, Motion, PromptKind, Screen, View, unit_frame};
+use super::edit::Item;
+use super::keymap::{Binding, Mode, bindings};
 use super::theme::Theme;
 use crate::analysis::Analysis;
 use crate::report::{fmt_num, fmt_sig};
@@ -31,8 +32,11 @@ pub fn draw(frame: &mut Frame, app: &App, theme: Theme) {
         frame.render_widget(Paragraph::new(text).alignment(Alignment::Center).style(theme.warn()), rect);
         return;
     }
+    // A file error (with its file:line:col) gets two rows, so it is not cut.
+    let status_rows = if app.file_error.is_some() && app.input.is_none() && app.message.is_none() { 2 } else { 1 };
     let [body, status, keys] =
-        Layout::vertical([Constraint::Min(8), Constraint::Length(1), Constraint::Length(1)]).areas(area);
+        Layout::vertical([Constraint::Min(8), Constraint::Length(status_rows), Constraint::Length(1)]).areas(area);
+    let selected = selected_joints(app);
     match &app.screen {
         Screen::Loading { scene } => {
             let p =
@@ -49,19 +53,47 @@ pub fn draw(frame: &mut Frame, app: &App, theme: Theme) {
             .block(Block::bordered().title(Span::styled(" caymos ", theme.title())));
             frame.render_widget(p, body);
         }
-        Screen::Empty { analysis, why } => draw_empty(frame, analysis, why, body, theme),
-        Screen::Ready(m) => draw_model(frame, m, body, theme),
+        Screen::Empty { analysis, why } => {
+            let heads = ["nothing to explore", " no realization ", "· the drawing (no realization) "];
+            draw_empty(frame, analysis, heads, why, &selected, body, theme)
+        }
+        Screen::Outside { analysis, why } => {
+            let heads = ["cannot explore: outside the handled class", " outside the class ", "· the drawing "];
+            draw_empty(frame, analysis, heads, why, &selected, body, theme)
+        }
+        Screen::Ready(m) => draw_model(frame, app, m, &selected, body, theme),
     }
     draw_status(frame, app, status, theme);
     draw_keys(frame, app, keys, theme);
     if app.help {
-        draw_help(frame, area, theme);
+        draw_help(frame, app.mode(), area, theme);
     }
 }
 
-/// A scene in the class with no realization: the drawing, why there is
-/// nothing to explore, and every bar's length (stated ones marked).
-fn draw_empty(frame: &mut Frame, a: &Analysis, why: &str, area: Rect, theme: Theme) {
+/// The joints the drawing highlights: the edit selection's (a joint, or a
+/// bar's two ends) when editing, else none (the view then marks the traced joint).
+fn selected_joints(app: &App) -> Vec<usize> {
+    if !app.editor.on {
+        return Vec::new();
+    }
+    match app.item() {
+        Item::Joint(j) => vec![j],
+        Item::Bar(i) => app.doc.scene.bars[i].joints.to_vec(),
+    }
+}
+
+/// A scene with nothing to explore (no realization, or outside the class):
+/// the drawing, why (`heads`: the headline, the panel's title, the drawing's), and
+/// every bar's length (stated ones marked).
+fn draw_empty(
+    frame: &mut Frame,
+    a: &Analysis,
+    heads: [&str; 3],
+    why: &str,
+    selected: &[usize],
+    area: Rect,
+    theme: Theme,
+) {
     let side = if area.width >= 120 { 52 } else { 36 };
     let [main, right] = Layout::horizontal([Constraint::Min(20), Constraint::Length(side)]).areas(area);
     let l = &a.linkage;
@@ -71,19 +103,20 @@ fn draw_empty(frame: &mut Frame, a: &Analysis, why: &str, area: Rect, theme: The
     let (xb, yb) = equal_bounds(bounds_of(&pos), main);
     let title = Line::from(vec![
         Span::styled(format!(" {} ", a.scene.name), theme.title()),
-        Span::styled("· the drawing (no realization) ", theme.dim()),
+        Span::styled(heads[2].to_string(), theme.dim()),
     ]);
     let canvas = braille(title, xb, yb, |ctx| {
         draw_bars(ctx, l, &pos, theme.bar());
         ctx.layer();
         let tick = (xb[1] - xb[0]) * 0.015;
         for (j, p) in pos.iter().enumerate() {
-            ctx.print(p[0] + tick * 0.5, p[1], Line::styled(l.names[j].clone(), Style::default().fg(theme.joint())));
+            let style = if selected.contains(&j) { theme.highlight() } else { Style::default().fg(theme.joint()) };
+            ctx.print(p[0] + tick * 0.5, p[1], Line::styled(l.names[j].clone(), style));
         }
     });
     frame.render_widget(canvas, main);
     let mut lines = vec![
-        Line::styled("nothing to explore", theme.warn()),
+        Line::styled(heads[0].to_string(), theme.warn()),
         Line::raw(""),
         Line::raw(why.to_string()),
         Line::raw(""),
@@ -108,7 +141,7 @@ fn draw_empty(frame: &mut Frame, a: &Analysis, why: &str, area: Rect, theme: The
     }
     let p = Paragraph::new(lines)
         .wrap(Wrap { trim: true })
-        .block(Block::bordered().title(Span::styled(" no realization ", theme.title())));
+        .block(Block::bordered().title(Span::styled(heads[1].to_string(), theme.title())));
     frame.render_widget(p, right);
 }
 
@@ -135,7 +168,7 @@ fn draw_bars(ctx: &mut Context, l: &crate::linkage::Linkage, pos: &[[f64; 2]], c
     }
 }
 
-fn draw_model(frame: &mut Frame, m: &Model, area: Rect, theme: Theme) {
+fn draw_model(frame: &mut Frame, app: &App, m: &Model, selected: &[usize], area: Rect, theme: Theme) {
     let side = if area.width >= 120 { 38 } else { 30 };
     let max_rows = (area.height / 3).max(4);
     let comp_rows = m.solved().components.list[m.cursor.component].intervals.len() as u16;
@@ -146,11 +179,15 @@ fn draw_model(frame: &mut Frame, m: &Model, area: Rect, theme: Theme) {
     let [readout, comps] =
         Layout::vertical([Constraint::Length((ccv_rows + 6).min(top.height / 2 + 2)), Constraint::Min(3)]).areas(right);
     match m.view {
-        View::Linkage => draw_linkage(frame, m, main, theme),
+        View::Linkage => draw_linkage(frame, m, selected, main, theme),
         View::CayleyCurve => draw_curve(frame, m, main, theme),
     }
     draw_readout(frame, m, readout, theme);
-    draw_components(frame, m, comps, theme);
+    if app.editor.on {
+        draw_edit_panel(frame, app, comps, theme);
+    } else {
+        draw_components(frame, m, comps, theme);
+    }
     draw_intervals(frame, m, chart, theme);
 }
 
@@ -202,7 +239,7 @@ fn cut_note(m: &Model) -> &'static str {
     if m.picture.samples.truncated { "· traces cut at the sample budget " } else { "" }
 }
 
-fn draw_linkage(frame: &mut Frame, m: &Model, area: Rect, theme: Theme) {
+fn draw_linkage(frame: &mut Frame, m: &Model, selected: &[usize], area: Rect, theme: Theme) {
     let bounds = m.picture.bounds;
     let unit = unit_frame(bounds);
     let [x0, y0] = unit([bounds[0], bounds[1]]);
@@ -236,7 +273,8 @@ fn draw_linkage(frame: &mut Frame, m: &Model, area: Rect, theme: Theme) {
         let joints: Vec<(f64, f64)> = pos.iter().map(|p| (p[0], p[1])).collect();
         ctx.draw(&Points::new(&joints, theme.joint()));
         for (j, p) in pos.iter().enumerate() {
-            let style = if j == m.traces.selected { theme.highlight() } else { Style::default().fg(theme.joint()) };
+            let marked = if selected.is_empty() { j == m.traces.selected } else { selected.contains(&j) };
+            let style = if marked { theme.highlight() } else { Style::default().fg(theme.joint()) };
             ctx.print(p[0] + tick * 0.5, p[1], Line::styled(l.names[j].clone(), style));
         }
     });
@@ -402,15 +440,61 @@ fn draw_intervals(frame: &mut Frame, m: &Model, area: Rect, theme: Theme) {
     frame.render_widget(Paragraph::new(lines).block(Block::bordered().title(title)), area);
 }
 
+/// The edit panel (in place of the component list while editing): the
+/// selection and its value, the steps, undo and redo, the file.
+fn draw_edit_panel(frame: &mut Frame, app: &App, area: Rect, theme: Theme) {
+    let s = &app.doc.scene;
+    let item = app.item();
+    let mut lines = vec![Line::styled(app.item_name(item), theme.highlight())];
+    match item {
+        Item::Joint(j) => {
+            let p = s.joints[j].pos;
+            lines.push(Line::raw(format!("at ({}, {})", p[0], p[1])));
+        }
+        Item::Bar(i) => {
+            let stated = if s.bars[i].length.is_some() { "stated" } else { "drawn" };
+            lines.push(Line::raw(format!("length {} ({stated})", app.bar_length(i))));
+        }
+    }
+    let [fine, coarse] = app.editor.steps;
+    let (undo, redo) = app.editor.depth();
+    lines.push(Line::styled(format!("steps {} / {} (Shift)", fmt_num(fine), fmt_num(coarse)), theme.dim()));
+    lines.push(Line::styled(format!("undo {undo} · redo {redo}"), theme.dim()));
+    let file = match &app.doc.path {
+        Some(p) => p.file_name().map(|f| f.to_string_lossy().into_owned()).unwrap_or_default(),
+        None => "no file (w saves to a new one)".to_string(),
+    };
+    let modified = if app.doc.modified() && app.doc.path.is_some() { " · modified" } else { "" };
+    lines.push(Line::styled(format!("{file}{modified}"), theme.dim()));
+    let p = Paragraph::new(lines)
+        .wrap(Wrap { trim: true })
+        .block(Block::bordered().title(Span::styled(" edit ", theme.title())));
+    frame.render_widget(p, area);
+}
+
 fn draw_status(frame: &mut Frame, app: &App, area: Rect, theme: Theme) {
     let line = if let Some(input) = &app.input {
+        let (label, enter) = match input.kind {
+            PromptKind::GoTo => ("go to (λ or TYPE@λ): ".to_string(), "go"),
+            PromptKind::Select => ("select (joint C or bar B-C): ".to_string(), "select"),
+            PromptKind::Value => (format!("{} = ", app.item_name(app.item())), "set"),
+        };
         Line::from(vec![
-            Span::styled("go to (λ or TYPE@λ): ", theme.key()),
-            Span::raw(format!("{input}▏")),
-            Span::styled("  Enter go · Esc cancel", theme.dim()),
+            Span::styled(label, theme.key()),
+            Span::raw(format!("{}▏", input.text)),
+            Span::styled(format!("  Enter {enter} · Esc cancel"), theme.dim()),
         ])
     } else if let Some(msg) = &app.message {
         Line::styled(msg.clone(), theme.highlight())
+    } else if let Some(e) = &app.file_error {
+        let p = Paragraph::new(Line::styled(e.clone(), theme.warn())).wrap(Wrap { trim: true });
+        frame.render_widget(p, area);
+        return;
+    } else if app.editor.on {
+        Line::styled(
+            format!("editing {} · Tab selects · arrows move · +/- length · = types a value", app.item_name(app.item())),
+            theme.dim(),
+        )
     } else if let Some(m) = app.model() {
         let marks: Vec<String> = m
             .marks
@@ -439,15 +523,26 @@ fn draw_status(frame: &mut Frame, app: &App, area: Rect, theme: Theme) {
 }
 
 fn draw_keys(frame: &mut Frame, app: &App, area: Rect, theme: Theme) {
+    use super::keymap::{Action, When};
     let mut spans = Vec::new();
     let mut used = 0usize;
-    // Help and quit first, so they show however narrow the terminal.
-    let first =
-        |b: &&super::keymap::Binding| !matches!(b.action, super::keymap::Action::Help | super::keymap::Action::Quit);
-    // Without a scene to explore only help and quit do anything.
-    let useful = |b: &&super::keymap::Binding| !first(b) || app.model().is_some();
-    let mut bar: Vec<&super::keymap::Binding> = BINDINGS.iter().filter(|b| !b.bar.is_empty()).filter(useful).collect();
-    bar.sort_by_key(first);
+    // Help and quit first, so they show however narrow the terminal; then
+    // the edit toggle, then (while editing) the edit keys.
+    let editing = app.editor.on;
+    let rank = |b: &&Binding| match (b.action, b.when) {
+        (Action::Help | Action::Quit, _) => 0,
+        (Action::ToggleEdit, _) => 1,
+        (_, When::Edit) => 2,
+        (Action::Undo | Action::Redo | Action::Save, _) if editing => 3,
+        _ => 4,
+    };
+    // Without a scene to explore only help, quit and the edit keys do anything.
+    let edits = |b: &&Binding| {
+        b.when == When::Edit || matches!(b.action, Action::ToggleEdit | Action::Undo | Action::Redo | Action::Save)
+    };
+    let useful = |b: &&Binding| rank(b) == 0 || edits(b) || app.model().is_some();
+    let mut bar: Vec<&Binding> = bindings(app.mode()).filter(|b| !b.bar.is_empty()).filter(useful).collect();
+    bar.sort_by_key(rank);
     for b in bar {
         let (key, short) = (b.short_label(), b.bar);
         let w = key.chars().count() + short.chars().count() + 3;
@@ -461,18 +556,19 @@ fn draw_keys(frame: &mut Frame, app: &App, area: Rect, theme: Theme) {
     frame.render_widget(Paragraph::new(Line::from(spans)), area);
 }
 
-fn draw_help(frame: &mut Frame, area: Rect, theme: Theme) {
+fn draw_help(frame: &mut Frame, mode: Mode, area: Rect, theme: Theme) {
+    let rows: Vec<&Binding> = bindings(mode).collect();
     // One column when it fits, else two side by side.
-    let rows_needed = BINDINGS.len() as u16 + 3;
+    let rows_needed = rows.len() as u16 + 3;
     let columns: usize = if rows_needed <= area.height.saturating_sub(2) { 1 } else { 2 };
-    let per_column = BINDINGS.len().div_ceil(columns);
+    let per_column = rows.len().div_ceil(columns);
     let w = if columns == 1 { 64 } else { 118 }.min(area.width.saturating_sub(2));
     let h = (per_column as u16 + 3).min(area.height.saturating_sub(2));
     let rect = Rect { x: area.x + (area.width - w) / 2, y: area.y + (area.height - h) / 2, width: w, height: h };
     let col_w = (w.saturating_sub(2) as usize) / columns;
     // Every key of a row, as the key table has them; the column fits the longest.
-    let key_w = BINDINGS.iter().map(|b| b.label().chars().count()).max().unwrap_or(0) + 1;
-    let cell = |b: &super::keymap::Binding| -> Vec<Span<'static>> {
+    let key_w = rows.iter().map(|b| b.label().chars().count()).max().unwrap_or(0) + 1;
+    let cell = |b: &Binding| -> Vec<Span<'static>> {
         let help: String = b.help.chars().take(col_w.saturating_sub(key_w + 2)).collect();
         let pad = col_w.saturating_sub(key_w + 1 + help.chars().count());
         vec![Span::styled(format!(" {:<key_w$}", b.label()), theme.key()), Span::raw(help), Span::raw(" ".repeat(pad))]
@@ -481,7 +577,7 @@ fn draw_help(frame: &mut Frame, area: Rect, theme: Theme) {
         .map(|r| {
             let mut spans = Vec::new();
             for c in 0..columns {
-                if let Some(b) = BINDINGS.get(c * per_column + r) {
+                if let Some(b) = rows.get(c * per_column + r) {
                     spans.extend(cell(b));
                 }
             }
@@ -489,9 +585,7 @@ fn draw_help(frame: &mut Frame, area: Rect, theme: Theme) {
         })
         .collect();
     lines.push(Line::styled(" Esc or ? closes this help · every key works over SSH, no mouse needed", theme.dim()));
+    let title = if mode == Mode::Edit { " keys while editing (m: explore) " } else { " keys (m: edit) " };
     frame.render_widget(Clear, rect);
-    frame.render_widget(
-        Paragraph::new(lines).block(Block::bordered().title(Span::styled(" keys ", theme.title()))),
-        rect,
-    );
+    frame.render_widget(Paragraph::new(lines).block(Block::bordered().title(Span::styled(title, theme.title()))), rect);
 }

@@ -5,28 +5,39 @@
 use caymos::analysis::analyse;
 use caymos::bundled;
 use caymos::tui::app::{App, Motion, View};
-use caymos::tui::handle_key;
 use caymos::tui::theme::Theme;
 use caymos::tui::view;
+use caymos::tui::{handle_key, settle};
 use proptest::prelude::*;
 use ratatui::Terminal;
 use ratatui::backend::TestBackend;
 use ratatui::crossterm::event::{KeyCode, KeyEvent, KeyModifiers};
 
-fn app(scene: &str) -> App {
+pub fn app(scene: &str) -> App {
     App::ready(analyse(bundled::load(scene).unwrap(), None).unwrap())
 }
 
-fn press(app: &mut App, keys: &str) {
+/// Press keys, each written as its character or: → ← ↑ ↓ arrows, ⇒ Shift-→,
+/// ⏎ Enter, ⎋ Esc, ⇥ Tab, ⇤ Shift-Tab, ⌫ Backspace, ⌦ Delete. The analyses
+/// the keys ask for are run after each key, as the solver thread would.
+pub fn press(app: &mut App, keys: &str) {
     for c in keys.chars() {
-        let code = match c {
-            '→' => KeyCode::Right,
-            '←' => KeyCode::Left,
-            '⏎' => KeyCode::Enter,
-            '⎋' => KeyCode::Esc,
-            c => KeyCode::Char(c),
+        let (code, mods) = match c {
+            '→' => (KeyCode::Right, KeyModifiers::NONE),
+            '←' => (KeyCode::Left, KeyModifiers::NONE),
+            '↑' => (KeyCode::Up, KeyModifiers::NONE),
+            '↓' => (KeyCode::Down, KeyModifiers::NONE),
+            '⇒' => (KeyCode::Right, KeyModifiers::SHIFT),
+            '⏎' => (KeyCode::Enter, KeyModifiers::NONE),
+            '⎋' => (KeyCode::Esc, KeyModifiers::NONE),
+            '⇥' => (KeyCode::Tab, KeyModifiers::NONE),
+            '⇤' => (KeyCode::BackTab, KeyModifiers::SHIFT),
+            '⌫' => (KeyCode::Backspace, KeyModifiers::NONE),
+            '⌦' => (KeyCode::Delete, KeyModifiers::NONE),
+            c => (KeyCode::Char(c), KeyModifiers::NONE),
         };
-        handle_key(app, KeyEvent::new(code, KeyModifiers::NONE));
+        handle_key(app, KeyEvent::new(code, mods));
+        settle(app);
     }
 }
 
@@ -380,16 +391,19 @@ fn press_and(a: &mut App, keys: &str) -> Option<String> {
     a.message.clone()
 }
 
-/// The help overlay is the key table: every row's keys and help are on it.
+/// The help overlay is the key table: every row of the mode's keys and help are on it.
 #[test]
 fn the_help_overlay_lists_every_binding() {
-    use caymos::tui::keymap::BINDINGS;
+    use caymos::tui::keymap::{Mode, bindings};
     let mut a = app("jansen");
-    press(&mut a, "?");
-    let screen = format!("{}", render(&a, 160, 48, Theme { color: false }).backend());
-    for b in BINDINGS {
-        assert!(screen.contains(&format!(" {} ", b.label())) || screen.contains(&b.label()), "{}", b.label());
-        assert!(screen.contains(b.help), "{}: {screen}", b.help);
+    for (keys, mode) in [("?", Mode::Explore), ("?m?", Mode::Edit)] {
+        press(&mut a, keys);
+        assert_eq!(a.mode(), mode);
+        let screen = format!("{}", render(&a, 160, 48, Theme { color: false }).backend());
+        for b in bindings(mode) {
+            assert!(screen.contains(&format!(" {} ", b.label())) || screen.contains(&b.label()), "{}", b.label());
+            assert!(screen.contains(b.help), "{}: {screen}", b.help);
+        }
     }
 }
 
@@ -399,7 +413,7 @@ proptest! {
     /// Nothing a user types crashes the UI, drawing included.
     #[test]
     fn no_key_sequence_panics(keys in proptest::collection::vec(prop::sample::select(
-        "→←LH][ nNpgabc12\u{238b}tjJvrReExq+-0d?@.,59⏎".chars().collect::<Vec<_>>()), 1..60), scene in prop::sample::select(vec!["jansen", "peaucellier", "stephenson"])) {
+        "→←↑↓⇒LH][ nNpgabc12\u{238b}tjJvrReExq+-0d?@.,59⏎mmmmu/=X<>kKU⇥⇤⌫⌦".chars().collect::<Vec<_>>()), 1..60), scene in prop::sample::select(vec!["jansen", "peaucellier", "stephenson", "fourbar-crank-rocker"])) {
         let mut a = app(scene);
         let mut t = Terminal::new(TestBackend::new(80, 24)).unwrap();
         for c in keys {
@@ -414,7 +428,7 @@ proptest! {
     }
 }
 
-fn render(a: &App, w: u16, h: u16, theme: Theme) -> Terminal<TestBackend> {
+pub fn render(a: &App, w: u16, h: u16, theme: Theme) -> Terminal<TestBackend> {
     let mut t = Terminal::new(TestBackend::new(w, h)).unwrap();
     t.draw(|f| view::draw(f, a, theme)).unwrap();
     t
@@ -561,7 +575,7 @@ fn a_scene_with_no_realization_in_a_pseudo_terminal() {
 /// The real binary on `arg` in an 80×24 pseudo-terminal with `NO_COLOR=1`:
 /// the master (keep it alive), the child, its input, and its output as chunks.
 #[allow(clippy::type_complexity)]
-fn spawn_in_pty(
+pub fn spawn_in_pty(
     arg: &str,
 ) -> (
     Box<dyn portable_pty::MasterPty + Send>,
@@ -594,7 +608,7 @@ fn spawn_in_pty(
 
 /// Type `keys` (ending in a quit), then: the child exits with status 0 within
 /// 10 s and has left the alternate screen (the terminal is restored).
-fn type_and_expect_clean_exit(
+pub fn type_and_expect_clean_exit(
     keys: &[u8],
     child: &mut dyn portable_pty::Child,
     writer: &mut dyn std::io::Write,

@@ -66,6 +66,14 @@ pub const TUI_STEP_FRACTION: f64 = 1.0 / 60.0;
 /// The terminal UI's arrow-key step is never halved below this (× the drawing's diagonal).
 pub const TUI_MIN_STEP_FRACTION: f64 = 1e-6;
 
+/// The terminal UI's edit mode moves a joint or changes a bar's length by
+/// the power of ten at or below this (× the drawing's diagonal) per fine
+/// step, so edited numbers stay short decimals …
+pub const TUI_EDIT_FINE_FRACTION: f64 = 0.01;
+
+/// … and by the power of ten at or below this per coarse step.
+pub const TUI_EDIT_COARSE_FRACTION: f64 = 0.1;
+
 /// The terminal UI's "go to λ" accepts a λ this far (× scale) outside a
 /// segment of the current motion as on it (a λ typed from a printed end).
 pub const TUI_GOTO_MARGIN: f64 = 1e-12;
