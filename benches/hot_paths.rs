@@ -60,11 +60,16 @@ fn hot_paths(c: &mut Criterion) {
         b.iter(|| Stepper::new(con, &a.linkage, segments.clone(), black_box(step)).count())
     });
 
-    let chain = caymos::generate::chain(100);
+    lazy_walk(c, 100);
+}
+
+/// The lazy walk of an n-step chain's drawn component.
+fn lazy_walk(c: &mut Criterion, steps: usize) {
+    let chain = caymos::generate::chain(steps);
     let ca = analyse_with(chain, None, Scope::Lazy).expect("analyses");
     let cs = ca.outcome.expect("in class");
     let cjet = cs.construction.convert::<Jet<f64>>();
-    c.bench_function("100-step chain lazy walk of the drawn component", |b| {
+    c.bench_function(&format!("{steps}-step chain lazy walk of the drawn component"), |b| {
         b.iter(|| {
             component_through(
                 &cs.construction,
@@ -98,22 +103,7 @@ fn exact_vs_classic(c: &mut Criterion) {
 /// 100-step chain as the user runs it (a whole process: start, parse,
 /// analysis, self-check, output).
 fn large(c: &mut Criterion) {
-    let chain = caymos::generate::chain(1000);
-    let ca = analyse_with(chain, None, Scope::Lazy).expect("analyses");
-    let cs = ca.outcome.expect("in class");
-    let cjet = cs.construction.convert::<Jet<f64>>();
-    c.bench_function("1000-step chain lazy walk of the drawn component", |b| {
-        b.iter(|| {
-            component_through(
-                &cs.construction,
-                &cs.certifier,
-                &cjet,
-                &cs.drawn.ty,
-                black_box(cs.drawn.lambda),
-                LazyOptions::default(),
-            )
-        })
-    });
+    lazy_walk(c, 1000);
     let path = std::env::temp_dir().join(format!("caymos-bench-chain-100-{}.toml", std::process::id()));
     std::fs::write(&path, caymos::generate::to_toml(&caymos::generate::chain(100))).expect("temp file");
     c.bench_function("report on a 100-step chain, whole process", |b| {

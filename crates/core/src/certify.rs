@@ -23,10 +23,9 @@
 //! bracket with the flat steps placed exactly flat — the realization at λ*.
 
 use std::cell::{Cell, OnceCell, RefCell};
-use std::collections::HashMap;
-use std::hash::{BuildHasherDefault, Hasher};
 
 use crate::decompose::Decomposition;
+use crate::inthash::IntMap;
 use crate::linkage::Linkage;
 use crate::real::{Ball, Dd, Jet, Real};
 use crate::realize::{Construction, Event, Kind, P2};
@@ -67,54 +66,12 @@ pub struct Certifier {
     kinds: Vec<&'static [Kind]>,
     /// Proven end brackets already searched, keyed by [`BracketKey`]
     /// (the same end is asked about once per later step).
-    brackets: RefCell<WordMap<BracketKey, Option<f64>>>,
+    brackets: RefCell<IntMap<BracketKey, Option<f64>>>,
     /// Ends' λ already located in double-double ([`Certifier::refine_dd`]),
     /// keyed like the brackets (without the arithmetic): every later step
     /// and every question at the end asks for the same Newton iteration.
-    refined: RefCell<WordMap<RefineKey, Dd>>,
+    refined: RefCell<IntMap<RefineKey, Dd>>,
     estimated: Cell<usize>,
-}
-
-/// A hash map over keys of a few machine words.
-type WordMap<K, V> = HashMap<K, V, BuildHasherDefault<WordHasher>>;
-
-/// A multiplicative word hasher (FxHash's mixing): the keys are a few
-/// machine words computed here, never adversarial input, so SipHash's
-/// resistance to crafted collisions buys nothing and costs a sizeable share
-/// of a small scene's certified decisions.
-#[derive(Default, Clone, Copy)]
-struct WordHasher(u64);
-
-impl WordHasher {
-    fn add(&mut self, word: u64) {
-        self.0 = (self.0.rotate_left(5) ^ word).wrapping_mul(0x517c_c1b7_2722_0a95);
-    }
-}
-
-impl Hasher for WordHasher {
-    fn write(&mut self, bytes: &[u8]) {
-        for chunk in bytes.chunks(8) {
-            let mut word = [0u8; 8];
-            word[..chunk.len()].copy_from_slice(chunk);
-            self.add(u64::from_le_bytes(word));
-        }
-    }
-    fn write_u8(&mut self, x: u8) {
-        self.add(u64::from(x));
-    }
-    fn write_u64(&mut self, x: u64) {
-        self.add(x);
-    }
-    fn write_u128(&mut self, x: u128) {
-        self.add(x as u64);
-        self.add((x >> 64) as u64);
-    }
-    fn write_usize(&mut self, x: usize) {
-        self.add(x as u64);
-    }
-    fn finish(&self) -> u64 {
-        self.0
-    }
 }
 
 /// An end's bracket depends on its λ, its first flat event, the type bits
@@ -130,7 +87,7 @@ type BracketKey = ([u64; 2], Event, u128, bool);
 /// same operations in the same order), so no answer changes.
 #[derive(Debug, Default)]
 pub struct Prefixes {
-    places: WordMap<PlaceKey, Realized>,
+    places: IntMap<PlaceKey, Realized>,
 }
 
 /// A place: its λ ball (midpoint and radius bits) and its flat steps (bit i for step i).
@@ -256,8 +213,8 @@ impl Certifier {
             linkage: linkage.clone(),
             dec: dec.clone(),
             kinds: Vec::new(),
-            brackets: RefCell::new(WordMap::default()),
-            refined: RefCell::new(WordMap::default()),
+            brackets: RefCell::new(IntMap::default()),
+            refined: RefCell::new(IntMap::default()),
             estimated: Cell::new(0),
         };
         // Unequal sides proven in f64 balls are unequal in double-double
