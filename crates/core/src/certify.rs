@@ -27,7 +27,7 @@ use std::cell::{Cell, OnceCell, RefCell};
 use crate::decompose::Decomposition;
 use crate::inthash::IntMap;
 use crate::linkage::Linkage;
-use crate::real::{Ball, Dd, Jet, Real};
+use crate::real::{Ball, Dd, Real, Slope};
 use crate::realize::{Construction, Event, Kind, P2};
 use crate::tolerance;
 
@@ -168,7 +168,8 @@ fn prefix_word(bits: &[bool], step: usize) -> Option<u128> {
 struct DdConstructions {
     balls: Construction<Ball<Dd>>,
     plain: Construction<Dd>,
-    jets: Construction<Jet<Dd>>,
+    /// Value and slope only: the Newton iteration of [`Certifier::refine_dd`] reads no curvature.
+    slopes: Construction<Slope<Dd>>,
 }
 
 /// Whether a step closes at a point (see [`Certifier::closes`]).
@@ -241,7 +242,7 @@ impl Certifier {
             let built = DdConstructions {
                 balls: Construction::new(&self.linkage, &self.dec).ok()?,
                 plain: Construction::new(&self.linkage, &self.dec).ok()?,
-                jets: Construction::new(&self.linkage, &self.dec).ok()?,
+                slopes: Construction::new(&self.linkage, &self.dec).ok()?,
             };
             let _ = self.dd.set(built);
         }
@@ -530,12 +531,12 @@ impl Certifier {
     /// The Newton iteration of [`Self::refine_dd`] for an end where `event` is flat.
     fn newton_dd(&self, bits: &[bool], event: Event, lambda: Dd) -> Dd {
         let Some(dd) = self.dd_constructions() else { return lambda };
-        let con = &dd.jets;
+        let con = &dd.slopes;
         let s = &con.steps[event.step];
         let mut x = lambda;
         let mut last = f64::INFINITY;
         for _ in 0..tolerance::DD_NEWTON_STEPS {
-            let Ok(pos) = con.realize_prefix(Jet::variable(x), bits, event.step) else { break };
+            let Ok(pos) = con.realize_prefix(Slope::variable(x), bits, event.step) else { break };
             let g = event.kind.slack_value(s.r1, s.r2, con.base_distance(&pos, event.step));
             let step = g.v / g.d;
             let size = step.to_f64().abs();

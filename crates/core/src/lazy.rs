@@ -29,7 +29,7 @@
 
 use crate::cayley_space::{CayleySpace, Method, Note, OrientedInterval};
 use crate::certify::{At, Certifier, Sign};
-use crate::real::{Jet, Real};
+use crate::real::{Jet, Real, Slope};
 use crate::realize::{Construction, Event, Kind, RealizationType, Unrealizable};
 use std::cell::Cell;
 
@@ -166,6 +166,9 @@ struct Walker<'a, T: Real> {
     con: &'a Construction<T>,
     cert: &'a Certifier,
     jet: &'a Construction<Jet<T>>,
+    /// `jet` without curvatures, for the Newton root location of [`Self::locate`]
+    /// (value and slope only, the same numbers as `jet`'s: see [`Slope`]).
+    slopes: Construction<Slope<T>>,
     options: LazyOptions,
     /// Steps on the base need |r1 − r2| ≤ λ ≤ r1 + r2: the walk never leaves this range.
     range: [T; 2],
@@ -222,6 +225,7 @@ impl<'a, T: Real> Walker<'a, T> {
             con,
             cert,
             jet,
+            slopes: jet.map(|j| Slope { v: j.v, d: j.d }),
             options,
             range,
             range_events,
@@ -268,6 +272,20 @@ impl<'a, T: Real> Walker<'a, T> {
         self.count_steps(s.k + 1);
         let d = base_distance_jet(self.jet, s.bits, s.k, lambda)?;
         Some(self.slack(s.k, s.kind, d, s.dir))
+    }
+
+    /// [`Self::slack_at`]'s value and slope (along the walk) alone, the same
+    /// numbers, from a realization without curvatures.
+    fn slack_slope_at(&self, s: Along<T>, lambda: T) -> Option<(T, T)> {
+        self.count_steps(s.k + 1);
+        let pos = self.slopes.realize_prefix(Slope::variable(lambda), s.bits, s.k).ok()?;
+        let d = self.slopes.base_distance(&pos, s.k);
+        if !d.v.to_f64().is_finite() {
+            return None;
+        }
+        let st = &self.con.steps[s.k];
+        let j = s.kind.slack_value(Slope::constant(st.r1), Slope::constant(st.r2), d);
+        Some((j.v, j.d * s.dir))
     }
 
     /// A start at a tangency that is an isolated point (a step's slack is
@@ -704,7 +722,7 @@ impl<'a, T: Real> Walker<'a, T> {
     /// next to one), at no cost.
     fn locate(&self, along: Along<T>, a: T, (b, sb): (T, Jet<T>)) -> T {
         let seed = finite(&sb).then_some((b, sb.v, sb.d * along.dir));
-        let run = newton_seeded(a, b, seed, |x| self.slack_at(along, x).map(|s| (s.v, s.d * along.dir)));
+        let run = newton_seeded(a, b, seed, |x| self.slack_slope_at(along, x).map(|(v, d)| (v, d * along.dir)));
         self.roots.set(self.roots.get() + 1);
         self.newton_evaluations.set(self.newton_evaluations.get() + run.evaluations);
         run.root

@@ -293,6 +293,86 @@ impl<T: Real> Real for Jet<T> {
     }
 }
 
+/// A first-order jet `v + d·t`: a [`Jet`] without the second derivative,
+/// for Newton iterations that need only the value and the slope. Its `v`
+/// and `d` are computed by exactly the operations [`Jet`] uses for them (a
+/// jet's value and slope never read its curvature), so they are the same
+/// numbers bit for bit, at about half the cost.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Slope<T> {
+    /// The value.
+    pub v: T,
+    /// The first derivative.
+    pub d: T,
+}
+
+impl<T: Real> Slope<T> {
+    /// The independent variable at `x`.
+    pub fn variable(x: T) -> Self {
+        Slope { v: x, d: T::from_f64(1.0) }
+    }
+    /// A constant: zero slope.
+    pub fn constant(x: T) -> Self {
+        Slope { v: x, d: T::zero() }
+    }
+}
+
+impl<T: Real> Add for Slope<T> {
+    type Output = Self;
+    fn add(self, o: Self) -> Self {
+        Slope { v: self.v + o.v, d: self.d + o.d }
+    }
+}
+impl<T: Real> Sub for Slope<T> {
+    type Output = Self;
+    fn sub(self, o: Self) -> Self {
+        Slope { v: self.v - o.v, d: self.d - o.d }
+    }
+}
+impl<T: Real> Neg for Slope<T> {
+    type Output = Self;
+    fn neg(self) -> Self {
+        Slope { v: -self.v, d: -self.d }
+    }
+}
+impl<T: Real> Mul for Slope<T> {
+    type Output = Self;
+    fn mul(self, o: Self) -> Self {
+        Slope { v: self.v * o.v, d: self.d * o.v + self.v * o.d }
+    }
+}
+impl<T: Real> Div for Slope<T> {
+    type Output = Self;
+    fn div(self, o: Self) -> Self {
+        // As in `Jet`: q = a/b, q' = (a' - q b')/b.
+        let v = self.v / o.v;
+        Slope { v, d: (self.d - v * o.d) / o.v }
+    }
+}
+impl<T: Real> PartialOrd for Slope<T> {
+    fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
+        self.v.partial_cmp(&other.v)
+    }
+}
+
+impl<T: Real> Real for Slope<T> {
+    const UNIT_ROUNDOFF: f64 = T::UNIT_ROUNDOFF;
+    fn from_f64(x: f64) -> Self {
+        Slope::constant(T::from_f64(x))
+    }
+    fn from_dd(x: Dd) -> Self {
+        Slope::constant(T::from_dd(x))
+    }
+    fn to_f64(self) -> f64 {
+        self.v.to_f64()
+    }
+    fn sqrt(self) -> Self {
+        // As in `Jet`: r = √v, r' = v'/(2r).
+        let r = self.v.sqrt();
+        Slope { v: r, d: self.d / (T::from_f64(2.0) * r) }
+    }
+}
+
 impl Dd {
     /// 10^n for 0 ≤ n ≤ 300, by squaring (exact while 10^n fits 106 bits, n ≤ 45).
     fn pow10(n: u32) -> Dd {
@@ -537,6 +617,21 @@ mod tests {
         // Double-double balls decide what f64 ones cannot.
         let a = Ball::<Dd>::from_dd(Dd::new(1.0) + Dd::new(1e-20));
         assert_eq!((a - Ball::from_f64(1.0)).sign(), Some(1));
+    }
+
+    #[test]
+    fn slopes_are_the_jets_value_and_slope_bit_for_bit() {
+        // f(x) = hypot(x², 1 − x) · √x / (3 − x) − x at a few x, in double-double.
+        fn f<T: Real>(x: T) -> T {
+            let one = T::from_f64(1.0);
+            T::hypot(x * x, one - x) * x.sqrt() / (T::from_f64(3.0) - x) - x
+        }
+        for x in [0.25, 0.7, 1.9, 2.5] {
+            let x = Dd::new(x) / Dd::new(3.0);
+            let (j, s) = (f(Jet::variable(x)), f(Slope::variable(x)));
+            assert_eq!((j.v, j.d), (s.v, s.d));
+            assert!(s.d.to_f64() != 0.0);
+        }
     }
 
     #[test]

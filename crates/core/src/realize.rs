@@ -347,8 +347,14 @@ fn shape_pos<T: Real>(shape: &Shape<T>, joint: usize) -> P2<T> {
 impl Construction<f64> {
     /// The same construction with its numbers rounded to `U`.
     pub fn convert<U: Real>(&self) -> Construction<U> {
-        let c = |x: f64| U::from_f64(x);
-        let members = |list: &Vec<Member<f64>>| {
+        self.map(U::from_f64)
+    }
+}
+
+impl<T: Real> Construction<T> {
+    /// The same construction with every number mapped by `c` (joints, steps and shapes unchanged).
+    pub fn map<U: Real>(&self, c: impl Fn(T) -> U) -> Construction<U> {
+        let members = |list: &Vec<Member<T>>| {
             list.iter().map(|m| Member { joint: m.joint, alpha: c(m.alpha), beta: c(m.beta) }).collect()
         };
         Construction {
