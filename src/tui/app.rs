@@ -1208,6 +1208,7 @@ impl Model {
     /// names an angle reached between two samples; there bisect λ within the
     /// later sample's segment to the float nearest that angle. The samples
     /// are close enough for the angle to unwrap (see [`tolerance::TUI_ANGLE_SCAN_TURN`]).
+    #[allow(clippy::type_complexity)]
     fn scan_angle(
         &self,
         bar: InputBar,
