@@ -11,9 +11,11 @@ use crate::analysis::{Analysis, Solved, analyse, nearest_attainable};
 use crate::cayley_vector::cayley_vector;
 use crate::commands::{self, PathReport, Walk};
 use crate::motion::{Segment, Stepper, arcs, component_segments, locate, realization_at};
+use crate::numfmt::fmt_sig;
 use crate::realize::{Point2, Realization, RealizationType};
 use crate::report::fmt_num;
 use crate::scene::Scene;
+use crate::sweep::InputBar;
 use crate::tolerance;
 
 use super::document::Document;
@@ -77,6 +79,66 @@ pub struct Marks {
     pub path: Option<PathReport>,
     /// Arc segments of the path A→B (when in one component).
     pub arcs: Option<[Vec<Segment>; 2]>,
+}
+
+/// The angle drive: with an input bar chosen, steps, play and `g 90°` go
+/// by degrees of that bar (measured from the ground line, as `trace --angle`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Drive {
+    pub input: Option<InputBar>,
+    /// Degrees per step.
+    pub step: f64,
+}
+
+/// The bars that can drive, in file order: one ground joint (the pivot) and
+/// another ground joint to measure the angle from (the first, as `--angle`).
+pub fn input_bars(scene: &Scene) -> Vec<InputBar> {
+    let ground = |j: usize| scene.ground.contains(&j);
+    scene
+        .bars
+        .iter()
+        .filter_map(|b| {
+            let [p, q] = b.joints;
+            let (pivot, tip) = match (ground(p), ground(q)) {
+                (true, false) => (p, q),
+                (false, true) => (q, p),
+                _ => return None,
+            };
+            let reference = scene.ground.iter().copied().find(|&r| r != pivot)?;
+            Some(InputBar { pivot, tip, reference })
+        })
+        .collect()
+}
+
+/// An angle difference brought into (−π, π].
+fn wrap(d: f64) -> f64 {
+    use std::f64::consts::{PI, TAU};
+    let d = d.rem_euclid(TAU);
+    if d > PI { d - TAU } else { d }
+}
+
+/// Whether the turn from `a` to `b` reaches `t` (past `a`, up to and including `b`).
+fn crosses(a: f64, b: f64, t: f64) -> bool {
+    a != t && (a - t) * (b - t) <= 0.0
+}
+
+/// Where a scan of the input angle found its target.
+struct AngleHit {
+    /// Index into the cursor's segments, λ and the realization there.
+    seg: usize,
+    lambda: f64,
+    positions: Vec<Point2<f64>>,
+    /// Degrees the bar turned on the way, back and forth (radians).
+    travel: f64,
+    /// Reached across a jump (a degenerate pass): not bisected.
+    jump: bool,
+}
+
+/// Why a scan found no target: how far the bar turned (radians from here, unwrapped) and where the walk ended.
+struct AngleMiss {
+    lo: f64,
+    hi: f64,
+    stopped_at: Option<f64>,
 }
 
 /// Which joints leave traces.
@@ -185,6 +247,7 @@ pub struct Model {
     pub camera: Camera,
     pub view: View,
     pub picture: Picture,
+    pub drive: Drive,
 }
 
 /// The whole UI state.
@@ -258,6 +321,7 @@ pub struct Carry {
     pub camera: Camera,
     pub traces: Traces,
     pub step: f64,
+    pub drive: Drive,
 }
 
 pub struct App {
@@ -405,6 +469,24 @@ impl App {
         self.message = None;
         match action {
             Action::GoTo => self.input = Some(Prompt { kind: PromptKind::GoTo, text: String::new() }),
+            Action::Export => {
+                self.message = Some(match super::export::export(m, self.doc.stem(), &self.save_dir) {
+                    Ok(e) => {
+                        let mut note = format!(
+                            "exported the trace ({} rows) to {} and the drawing to {}",
+                            e.rows,
+                            e.csv.display(),
+                            e.svg.display()
+                        );
+                        for n in &e.notes {
+                            note.push_str("; ");
+                            note.push_str(n);
+                        }
+                        note
+                    }
+                    Err(e) => e,
+                })
+            }
             other => match m.apply(other) {
                 Err(e) => self.message = Some(e),
                 Ok(Some(note)) => self.message = Some(note),
@@ -457,7 +539,7 @@ impl App {
         if let Screen::Ready(m) = &mut self.screen
             && m.pace.playing
         {
-            match m.move_by(1, m.pace.step) {
+            match m.advance(1, 1.0) {
                 Ok(None) => {}
                 Ok(Some(note)) => self.message = Some(note),
                 Err(_) => m.pace.playing = false,
@@ -469,6 +551,22 @@ impl App {
     pub fn animating(&self) -> bool {
         self.model().is_some_and(|m| m.pace.playing)
     }
+}
+
+/// A closest pair's distance in words: the significant digits its
+/// certificate vouches for (one past the relative gap), and whether it is certified.
+fn closest_words(c: &commands::ClosestOut) -> String {
+    let gap = if c.relative_gap > 0.0 { c.relative_gap } else { c.requested_gap };
+    let digits = (-gap.log10()).ceil();
+    let digits = if digits.is_finite() { (digits as usize + 1).clamp(3, 17) } else { 17 };
+    let status = if c.mirror_images {
+        "exactly 0: mirror images".to_string()
+    } else if c.certified {
+        "certified".to_string()
+    } else {
+        format!("not certified (proven in [{}, {}])", fmt_sig(c.lower_bound, 6), fmt_sig(c.upper_bound, 6))
+    };
+    format!("Cayley distance {} · {status}", fmt_sig(c.distance, digits))
 }
 
 /// The solved scene of an analysis a [`Model`] was made from.
@@ -519,6 +617,7 @@ impl Model {
             camera: Camera { yaw: 0.6, pitch: 0.35, axes },
             view: View::Linkage,
             picture,
+            drive: Drive { input: None, step: tolerance::TUI_ANGLE_STEP_DEGREES },
             analysis,
         };
         m.reset();
@@ -567,6 +666,7 @@ impl Model {
             camera: self.camera,
             traces: self.traces.clone(),
             step: self.pace.step,
+            drive: self.drive,
         }
     }
 
@@ -584,6 +684,9 @@ impl Model {
         if c.traces.traced.len() == self.traces.traced.len() {
             self.traces = c.traces.clone();
         }
+        // The input bar, while the edited scene still has it.
+        let bars = input_bars(&self.analysis.scene);
+        self.drive = Drive { input: c.drive.input.filter(|b| bars.contains(b)), step: c.drive.step };
         self.pace.step = c.step.clamp(self.pace.extent * tolerance::TUI_MIN_STEP_FRACTION, self.pace.extent);
         let scale = self.analysis.linkage.scale;
         let s = solved_of_mut(&mut self.analysis);
@@ -749,10 +852,11 @@ impl Model {
     fn apply(&mut self, action: Action) -> Result<Option<String>, String> {
         let step = self.pace.step;
         match action {
-            Action::StepForward => return self.move_by(1, step),
-            Action::StepBack => return self.move_by(-1, step),
-            Action::LargeForward => return self.move_by(1, step * 10.0),
-            Action::LargeBack => return self.move_by(-1, step * 10.0),
+            Action::StepForward => return self.advance(1, 1.0),
+            Action::StepBack => return self.advance(-1, 1.0),
+            Action::LargeForward => return self.advance(1, 10.0),
+            Action::LargeBack => return self.advance(-1, 10.0),
+            Action::NextInputBar => return self.next_input_bar().map(Some),
             Action::NextEndpoint => self.jump(1)?,
             Action::PrevEndpoint => self.jump(-1)?,
             Action::PlayPause => self.pace.playing = !self.pace.playing,
@@ -787,6 +891,18 @@ impl Model {
             }
             Action::FollowArc1 | Action::FollowArc2 => {
                 let arc = usize::from(action == Action::FollowArc2);
+                // Marks in different components: visit the closest pair's two realizations.
+                if let Some(c) = self.marks.path.as_ref().and_then(|p| p.closest_pair.clone()) {
+                    let r = if arc == 0 { &c.a } else { &c.b };
+                    self.go_to(&format!("{}@{}", r.ty, r.lambda))?;
+                    return Ok(Some(format!(
+                        "closest pair, realization {} of 2 ({}, component {}): {}",
+                        arc + 1,
+                        if arc == 0 { "near A" } else { "near B" },
+                        r.component,
+                        closest_words(&c)
+                    )));
+                }
                 let Some(arcs) = &self.marks.arcs else {
                     return Err("mark A and B in one component first (a, then b)".into());
                 };
@@ -829,6 +945,10 @@ impl Model {
                 let n = self.solved().complexity.ccv.len();
                 self.camera.next_axes(n);
             }
+            Action::StepBigger if self.drive.input.is_some() => self.drive.step = (self.drive.step * 2.0).min(360.0),
+            Action::StepSmaller if self.drive.input.is_some() => {
+                self.drive.step = (self.drive.step / 2.0).max(tolerance::TUI_MIN_STEP_FRACTION)
+            }
             Action::StepBigger => self.pace.step = (step * 2.0).min(self.pace.extent),
             Action::StepSmaller => {
                 self.pace.step = (step / 2.0).max(self.pace.extent * tolerance::TUI_MIN_STEP_FRACTION)
@@ -859,7 +979,8 @@ impl Model {
             | Action::ShortenFar
             | Action::SetValue
             | Action::DeleteBar
-            | Action::ExitEdit => {}
+            | Action::ExitEdit
+            | Action::Export => {}
         }
         Ok(None)
     }
@@ -874,17 +995,20 @@ impl Model {
                 }
                 ([Some(_), Some(_)], Some(p)) => match &p.closest_pair {
                     Some(c) => format!(
-                        "different components: closest pair {}@{} / {}@{} at Cayley distance {}",
+                        "different components: closest pair {}@{} / {}@{} (1/2 to visit): {}",
                         c.a.ty,
                         fmt_num(c.a.lambda),
                         c.b.ty,
                         fmt_num(c.b.lambda),
-                        fmt_num(c.distance)
+                        closest_words(c)
                     ),
                     None => "different components".into(),
                 },
                 _ => format!("marked {}", if action == Action::MarkA { "A" } else { "B" }),
             }),
+            Action::StepBigger | Action::StepSmaller if self.drive.input.is_some() => {
+                Some(format!("angle step {}°", fmt_num(self.drive.step)))
+            }
             Action::StepBigger | Action::StepSmaller => Some(format!("step {}", fmt_num(self.pace.step))),
             _ => None,
         }
@@ -911,6 +1035,9 @@ impl Model {
     /// lazy analysis walks the component through `TYPE@λ` into the one analysis.
     pub fn go_to(&mut self, text: &str) -> Result<(), String> {
         let scale = self.analysis.linkage.scale;
+        if let Some(degrees) = text.strip_suffix('°').or_else(|| text.strip_suffix("deg")) {
+            return self.go_to_angle(degrees.trim());
+        }
         if text.contains('@') || text == "drawn" {
             commands::include_specs(solved_of_mut(&mut self.analysis), &[text]);
             let s = self.solved();
@@ -940,6 +1067,206 @@ impl Model {
             }
             None => Err(format!("λ = {lambda} is not reached by this motion")),
         }
+    }
+
+    /// One step (`times` steps) along the motion: by degrees of the input
+    /// bar when one is chosen, else geometric.
+    pub fn advance(&mut self, dir: i8, times: f64) -> Result<Option<String>, String> {
+        match self.drive.input {
+            Some(bar) => self.turn_by(bar, dir, (self.drive.step * times).to_radians()),
+            None => self.move_by(dir, self.pace.step * times),
+        }
+    }
+
+    /// The input bar's name (pivot first) and its angle here, degrees from the ground line.
+    pub fn input_angle(&self) -> Option<(String, f64)> {
+        let bar = self.drive.input?;
+        let names = &self.analysis.linkage.names;
+        Some((format!("{}–{}", names[bar.pivot], names[bar.tip]), bar.angle(&self.cursor.positions).to_degrees()))
+    }
+
+    /// The readout's line for the angle drive, when an input bar is chosen.
+    pub fn drive_line(&self) -> Option<String> {
+        let (name, deg) = self.input_angle()?;
+        Some(format!("{name} {}° ±{}°", fmt_sig(deg, 8), fmt_num(self.drive.step)))
+    }
+
+    /// The next input bar (none after the last): see [`input_bars`].
+    fn next_input_bar(&mut self) -> Result<String, String> {
+        let bars = input_bars(&self.analysis.scene);
+        if bars.is_empty() {
+            return Err("no bar has exactly one ground joint (and another ground joint to measure from): \
+                        nothing to drive by angle"
+                .into());
+        }
+        self.drive.input = match self.drive.input.and_then(|b| bars.iter().position(|x| *x == b)) {
+            None => Some(bars[0]),
+            Some(k) => bars.get(k + 1).copied(),
+        };
+        let names = &self.analysis.linkage.names;
+        Ok(match (self.drive.input, self.input_angle()) {
+            (Some(b), Some((name, deg))) => format!(
+                "input bar {name} at {}° from the ground line {}–{}: steps, play and g 90° go by degrees \
+                 (±{}°, +/- change); i: next bar",
+                fmt_sig(deg, 8),
+                names[b.pivot],
+                names[b.reference],
+                fmt_num(self.drive.step)
+            ),
+            _ => "no input bar: steps are geometric again".into(),
+        })
+    }
+
+    /// Turn the input bar by `delta` radians, moving along the motion in
+    /// `dir`: to the first point where it has turned that far either way.
+    fn turn_by(&mut self, bar: InputBar, dir: i8, delta: f64) -> Result<Option<String>, String> {
+        let scan = self.scan_angle(bar, dir, |a, b| [delta, -delta].into_iter().find(|&t| crosses(a, b, t)));
+        match scan {
+            Ok(hit) => {
+                let turned_back = hit.travel > delta * (1.0 + 1e-9) + 1e-12;
+                let note = self.land(hit);
+                Ok(note.or_else(|| {
+                    turned_back.then(|| {
+                        "the input bar turned back on the way (a dead point): it is not monotone here".to_string()
+                    })
+                }))
+            }
+            Err(miss) => Err(self.miss_words(&miss, &format!("turn {}°", fmt_num(delta.to_degrees())))),
+        }
+    }
+
+    /// `g 90°`: the nearest realization along the motion (either way, by
+    /// degrees turned) where the input bar is at that angle.
+    fn go_to_angle(&mut self, text: &str) -> Result<(), String> {
+        let Some(bar) = self.drive.input else {
+            return Err("choose an input bar first (i), then g 90° goes to its angle".into());
+        };
+        let target: f64 = text
+            .parse::<f64>()
+            .ok()
+            .filter(|x| x.is_finite())
+            .ok_or_else(|| format!("\"{text}°\": type an angle in degrees like 90°"))?
+            .to_radians();
+        let rel = wrap(target - bar.angle(&self.cursor.positions));
+        if rel == 0.0 {
+            return Ok(());
+        }
+        // The first angle ≡ target (mod a full turn) between a and b.
+        let find = |a: f64, b: f64| {
+            let k = ((a.min(b) - rel) / std::f64::consts::TAU).ceil();
+            let t = rel + k * std::f64::consts::TAU;
+            (t <= a.max(b) && crosses(a, b, t)).then_some(t)
+        };
+        let forward = self.scan_angle(bar, 1, find);
+        let back = self.scan_angle(bar, -1, find);
+        let hit = match (forward, back) {
+            (Ok(f), Ok(b)) => {
+                if b.travel < f.travel {
+                    b
+                } else {
+                    f
+                }
+            }
+            (Ok(h), Err(_)) | (Err(_), Ok(h)) => h,
+            (Err(miss), Err(_)) => return Err(self.miss_words(&miss, &format!("reach {text}°"))),
+        };
+        match self.land(hit) {
+            Some(note) => Err(note),
+            None => Ok(()),
+        }
+    }
+
+    /// Stand at a scan's hit; a note when it was reached across a jump.
+    fn land(&mut self, hit: AngleHit) -> Option<String> {
+        let s = solved_of(&self.analysis);
+        let c = &mut self.cursor;
+        c.seg = hit.seg;
+        c.lambda = hit.lambda;
+        c.cayley = cayley_vector(&hit.positions, &s.complexity.ccv);
+        c.positions = hit.positions;
+        hit.jump.then(|| {
+            format!("jumped at λ = {}: a degenerate pass (the angle is reached across it)", fmt_num(hit.lambda))
+        })
+    }
+
+    /// Why a scan missed, in words.
+    fn miss_words(&self, miss: &AngleMiss, what: &str) -> String {
+        let range = format!(
+            "it turns only from {}° to {}° from here",
+            fmt_sig(miss.lo.to_degrees(), 6),
+            fmt_sig(miss.hi.to_degrees(), 6)
+        );
+        match miss.stopped_at {
+            Some(l) => format!("cannot {what}: no realization could be computed at λ = {} ({range})", fmt_num(l)),
+            None if self.cyclic() => format!("cannot {what} along this component: {range}"),
+            None => format!("cannot {what} before the end of the path: {range} (Esc: whole component)"),
+        }
+    }
+
+    /// Walk the motion from here in `dir` (around a component once), the
+    /// input bar's angle unwrapped from its value here, until `target(a, b)`
+    /// names an angle reached between two samples; there bisect λ within the
+    /// later sample's segment to the float nearest that angle. The samples
+    /// are close enough for the angle to unwrap (see [`tolerance::TUI_ANGLE_SCAN_TURN`]).
+    #[allow(clippy::type_complexity)]
+    fn scan_angle(
+        &self,
+        bar: InputBar,
+        dir: i8,
+        target: impl Fn(f64, f64) -> Option<f64>,
+    ) -> Result<AngleHit, AngleMiss> {
+        let (a, s) = (&self.analysis, self.solved());
+        let p = &self.cursor.positions;
+        let length = (p[bar.tip][0] - p[bar.pivot][0]).hypot(p[bar.tip][1] - p[bar.pivot][1]);
+        let bound = (tolerance::TUI_ANGLE_SCAN_TURN * length).min(self.pace.step).max(f64::MIN_POSITIVE);
+        let ahead = self.ahead(dir);
+        let segs: Vec<Segment> = ahead.iter().map(|(_, sg)| sg.clone()).collect();
+        let mut walk =
+            Stepper::new(&s.construction, &a.linkage, segs.clone(), bound).with_budget(tolerance::TUI_MAX_SAMPLES);
+        let here = bar.angle(p);
+        let (mut lo, mut hi, mut travel) = (0.0f64, 0.0f64, 0.0f64);
+        // The previous sample: segment, λ, positions, raw and unwrapped angle.
+        let mut prev: Option<(usize, f64, Vec<Point2<f64>>, f64, f64)> = None;
+        for sm in walk.by_ref() {
+            let raw = bar.angle(&sm.positions);
+            let Some((pseg, plambda, ppos, praw, pu)) = prev.take() else {
+                prev = Some((sm.segment, sm.lambda, sm.positions, raw, wrap(raw - here)));
+                continue;
+            };
+            let u = pu + wrap(raw - praw);
+            if let Some(t) = target(pu, u) {
+                let seg = &segs[sm.segment];
+                let hit = |lambda: f64, positions: Vec<Point2<f64>>, jump: bool| AngleHit {
+                    seg: ahead[sm.segment].0,
+                    lambda,
+                    positions,
+                    travel: travel + (t - pu).abs(),
+                    jump,
+                };
+                if sm.jump {
+                    return Ok(hit(sm.lambda, sm.positions, true));
+                }
+                // The stretch of this segment from the previous sample (or the segment's start).
+                let (l0, pos0) = if pseg == sm.segment {
+                    (plambda, ppos)
+                } else {
+                    match realization_at(&s.construction, &a.linkage, seg, seg.from) {
+                        Some(q) => (seg.from, q),
+                        None => (seg.from, ppos),
+                    }
+                };
+                let f = |q: &[Point2<f64>]| pu + wrap(bar.angle(q) - praw) - t;
+                let (lambda, positions) = bisect((l0, f(&pos0), pos0), (sm.lambda, u - t, sm.positions), |l| {
+                    realization_at(&s.construction, &a.linkage, seg, l).map(|q| (f(&q), q))
+                });
+                return Ok(hit(lambda, positions, false));
+            }
+            travel += (u - pu).abs();
+            lo = lo.min(u);
+            hi = hi.max(u);
+            prev = Some((sm.segment, sm.lambda, sm.positions, raw, u));
+        }
+        Err(AngleMiss { lo, hi, stopped_at: walk.summary().stopped_at })
     }
 
     /// Bring what the drawing reads up to date: the samples of the current
@@ -1001,6 +1328,38 @@ impl Model {
         }
         b
     }
+}
+
+/// Bisect λ between two points where `f` (a residual, with the realization
+/// there) has opposite signs, to adjacent floats; the point of smallest
+/// |residual| met wins (an end may be the best: next to a segment's end the
+/// residual can change like a square root of λ). Where no realization can be
+/// computed the bisection stops with the best so far.
+#[allow(clippy::type_complexity)]
+fn bisect(
+    a: (f64, f64, Vec<Point2<f64>>),
+    b: (f64, f64, Vec<Point2<f64>>),
+    at: impl Fn(f64) -> Option<(f64, Vec<Point2<f64>>)>,
+) -> (f64, Vec<Point2<f64>>) {
+    let (mut l0, mut f0) = (a.0, a.1);
+    let mut l1 = b.0;
+    let mut best = if a.1.abs() < b.1.abs() { (a.0, a.1.abs(), a.2) } else { (b.0, b.1.abs(), b.2) };
+    for _ in 0..200 {
+        let mid = l0 / 2.0 + l1 / 2.0;
+        if mid == l0 || mid == l1 || best.1 == 0.0 {
+            break;
+        }
+        let Some((fm, q)) = at(mid) else { break };
+        if fm.abs() < best.1 {
+            best = (mid, fm.abs(), q);
+        }
+        if (fm < 0.0) == (f0 < 0.0) && fm != 0.0 {
+            (l0, f0) = (mid, fm);
+        } else {
+            l1 = mid;
+        }
+    }
+    (best.0, best.2)
 }
 
 /// The drawing in units of its own extent (the box `b`), centred: the

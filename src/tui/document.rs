@@ -89,6 +89,11 @@ impl Document {
         Document { doc, scene, path: file, source, default_name, saved, stamp }
     }
 
+    /// The name files made from the scene take: its file's stem, the bundled name, else the scene's name.
+    pub fn stem(&self) -> &str {
+        &self.default_name
+    }
+
     /// The text as it would be saved.
     pub fn text(&self) -> String {
         self.doc.to_string()

@@ -58,11 +58,13 @@ pub enum Action {
     SetValue,
     DeleteBar,
     ExitEdit,
+    NextInputBar,
+    Export,
 }
 
 impl Action {
     /// Every action, in declaration order (the keymap test checks each has a key).
-    pub const ALL: [Action; 52] = [
+    pub const ALL: [Action; 54] = [
         Action::StepForward,
         Action::StepBack,
         Action::LargeForward,
@@ -115,6 +117,8 @@ impl Action {
         Action::SetValue,
         Action::DeleteBar,
         Action::ExitEdit,
+        Action::NextInputBar,
+        Action::Export,
     ];
 }
 
@@ -269,6 +273,7 @@ pub const BINDINGS: &[Binding] = &[
     bind(&[Char('x')], Action::NextAxes, "next curve axes (CCV)", ""),
     bind(&[Char('+'), Char('=')], Action::StepBigger, "double the step", ""),
     bind(&[Char('-')], Action::StepSmaller, "halve the step", ""),
+    bind(&[Char('i')], Action::NextInputBar, "input bar: step/play/g by its angle (°)", "angle"),
     both(&[Char('0'), Char('d')], Action::Reset, "reset to drawn", ""),
     both(&[Char('?')], Action::Help, "this help", "help"),
     both(&[Char('q'), Ctrl('c')], Action::Quit, "quit", "quit"),
@@ -276,6 +281,7 @@ pub const BINDINGS: &[Binding] = &[
     both(&[Char('u')], Action::Undo, "undo an edit", "undo"),
     both(&[Ctrl('r'), Char('U')], Action::Redo, "redo an edit", ""),
     both(&[Char('w'), Ctrl('s')], Action::Save, "save the scene file", "save"),
+    bind(&[Char('o')], Action::Export, "export trace CSV and SVG here", ""),
     edit(&[Code(KeyCode::Tab)], Action::SelectNext, "select next joint / bar", "select"),
     edit(&[Code(KeyCode::BackTab)], Action::SelectPrev, "select previous joint / bar", ""),
     edit(&[Char('/')], Action::SelectByName, "select by name (C or B-C)", ""),
@@ -343,6 +349,9 @@ mod tests {
         assert_eq!(action_for(Mode::Explore, &key(KeyCode::Char('X'))), None, "no deleting while exploring");
         assert_eq!(action_for(Mode::Explore, &key(KeyCode::Char('c'))), Some(Action::ClearMarks));
         assert_eq!(action_for(Mode::Explore, &key(KeyCode::Char('Z'))), None);
+        assert_eq!(action_for(Mode::Explore, &key(KeyCode::Char('i'))), Some(Action::NextInputBar));
+        assert_eq!(action_for(Mode::Explore, &key(KeyCode::Char('o'))), Some(Action::Export));
+        assert_eq!(action_for(Mode::Edit, &key(KeyCode::Char('o'))), None, "no exporting while editing");
     }
 
     /// `Action::ALL` is every variant, in order: this match has no wildcard,
@@ -401,6 +410,8 @@ mod tests {
             Action::SetValue => 49,
             Action::DeleteBar => 50,
             Action::ExitEdit => 51,
+            Action::NextInputBar => 52,
+            Action::Export => 53,
         }
     }
 

@@ -9,6 +9,7 @@
 pub mod app;
 pub mod document;
 pub mod edit;
+pub mod export;
 pub mod keymap;
 pub mod theme;
 pub mod view;

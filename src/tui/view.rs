@@ -331,6 +331,7 @@ fn draw_readout(frame: &mut Frame, m: &Model, area: Rect, theme: Theme) {
         Line::raw(format!("flat {flat_text}")),
         Line::raw(format!("step {}{}", fmt_num(m.pace.step), if m.pace.playing { "  ▶ playing" } else { "" })),
     ];
+    lines.extend(m.drive_line().map(|d| Line::raw(format!("in   {d}"))));
     let v = &m.cursor.cayley;
     for (k, &[p, q]) in m.solved().complexity.ccv.iter().enumerate() {
         let name = format!("{}–{}", l.names[p], l.names[q]);

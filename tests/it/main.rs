@@ -7,6 +7,7 @@ mod cayley_space;
 mod cli;
 mod closest;
 mod contract;
+mod drive;
 mod edit;
 mod graph;
 mod lazy;

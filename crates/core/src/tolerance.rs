@@ -74,6 +74,14 @@ pub const TUI_EDIT_FINE_FRACTION: f64 = 0.01;
 /// … and by the power of ten at or below this per coarse step.
 pub const TUI_EDIT_COARSE_FRACTION: f64 = 0.1;
 
+/// Default step of the terminal UI's angle drive, degrees of the input bar.
+pub const TUI_ANGLE_STEP_DEGREES: f64 = 10.0;
+
+/// The angle drive scans the motion in samples between which the input bar
+/// turns at most about this (radians: its tip moves at most this × its
+/// length), so the angle unwraps unambiguously (well under a half turn).
+pub const TUI_ANGLE_SCAN_TURN: f64 = 0.05;
+
 /// The terminal UI's "go to λ" accepts a λ this far (× scale) outside a
 /// segment of the current motion as on it (a λ typed from a printed end).
 pub const TUI_GOTO_MARGIN: f64 = 1e-12;
