@@ -58,11 +58,13 @@ pub enum Action {
     SetValue,
     DeleteBar,
     ExitEdit,
+    ScrollDown,
+    ScrollUp,
 }
 
 impl Action {
     /// Every action, in declaration order (the keymap test checks each has a key).
-    pub const ALL: [Action; 52] = [
+    pub const ALL: [Action; 54] = [
         Action::StepForward,
         Action::StepBack,
         Action::LargeForward,
@@ -115,6 +117,8 @@ impl Action {
         Action::SetValue,
         Action::DeleteBar,
         Action::ExitEdit,
+        Action::ScrollDown,
+        Action::ScrollUp,
     ];
 }
 
@@ -294,6 +298,8 @@ pub const BINDINGS: &[Binding] = &[
     edit(&[Char('='), Code(KeyCode::Enter)], Action::SetValue, "type x, y or a length", "set"),
     edit(&[Code(KeyCode::Delete), Char('X')], Action::DeleteBar, "delete the bar", ""),
     edit(&[Code(KeyCode::Esc)], Action::ExitEdit, "back to exploring; close help", ""),
+    bind(&[Char('}')], Action::ScrollDown, "scroll the side lists down", ""),
+    bind(&[Char('{')], Action::ScrollUp, "scroll the side lists up", ""),
 ];
 
 /// The rows that work in `mode`.
@@ -401,6 +407,8 @@ mod tests {
             Action::SetValue => 49,
             Action::DeleteBar => 50,
             Action::ExitEdit => 51,
+            Action::ScrollDown => 52,
+            Action::ScrollUp => 53,
         }
     }
 
