@@ -607,11 +607,10 @@ fn draw_intervals(frame: &mut Frame, m: &Model, area: Rect, theme: Theme) {
         Span::styled(" Cayley space ", theme.title()),
         Span::styled(
             format!(
-                "λ from {} to {} · {} oriented intervals, {total} in component {} ",
+                "λ from {} to {} · {} oriented intervals ({total} here) ",
                 fmt_num(lo),
                 fmt_num(hi),
-                s.space.intervals.len(),
-                m.cursor.component + 1
+                s.space.intervals.len()
             ),
             theme.dim(),
         ),
