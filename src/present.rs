@@ -63,9 +63,16 @@ const TYPE_DIFFS_SHOWN: usize = 6;
 /// `drawn, 17+ 165-` otherwise (at most six listed, then `… (+N)`).
 pub fn type_label(ty: &str, reference: Option<&str>) -> String {
     let n = ty.chars().count();
-    let Some(reference) = reference.filter(|r| n > TYPE_GROUPED && r.chars().count() == n) else {
-        return short_type(ty);
-    };
+    match reference.filter(|r| n > TYPE_GROUPED && r.chars().count() == n) {
+        Some(reference) => type_against(ty, reference),
+        None => short_type(ty),
+    }
+}
+
+/// A type as the steps (from 1) whose sign differs from `reference`, with
+/// their sign: `drawn` when none does, `drawn, 17+ 165-` otherwise (at most
+/// six listed, then `… (+N)`), whatever its length; `reference` must have as many signs.
+pub fn type_against(ty: &str, reference: &str) -> String {
     let diffs: Vec<String> = ty
         .chars()
         .zip(reference.chars())

@@ -248,6 +248,8 @@ pub struct Model {
     pub view: View,
     pub picture: Picture,
     pub drive: Drive,
+    /// How far the side lists (Cayley vector, intervals) are scrolled from where they would stand.
+    pub scroll: isize,
 }
 
 /// The whole UI state.
@@ -304,12 +306,16 @@ pub struct Job {
 pub struct Done {
     id: u64,
     result: Result<Analysis, String>,
+    /// The minimal complete Cayley vector's entries (the curve's default axes), made here off the UI thread.
+    minimal: Option<Vec<usize>>,
 }
 
 impl Job {
     /// Analyse (errors in words).
     pub fn run(self) -> Done {
-        Done { id: self.id, result: analyse(self.scene, self.base).map_err(|e| e.to_string()) }
+        let result = analyse(self.scene, self.base).map_err(|e| e.to_string());
+        let minimal = result.as_ref().ok().and_then(|a| a.outcome.as_ref().ok()).map(minimal_entries);
+        Done { id: self.id, result, minimal }
     }
 }
 
@@ -379,7 +385,7 @@ impl App {
     /// An app on an analysis already made.
     pub fn ready(analysis: Analysis) -> App {
         let mut app = App::blank(&analysis.scene, None);
-        app.install(Ok(analysis));
+        app.install(Ok(analysis), None);
         app
     }
 
@@ -403,13 +409,13 @@ impl App {
     pub fn finish(&mut self, done: Done) {
         if done.id == self.asked {
             self.installed = done.id;
-            self.install(done.result);
+            self.install(done.result, done.minimal);
         }
     }
 
     /// Show an analysis (moved in, never copied); an explorable one keeps
     /// the cursor on the nearest realization to the one before.
-    fn install(&mut self, analysis: Result<Analysis, String>) {
+    fn install(&mut self, analysis: Result<Analysis, String>, minimal: Option<Vec<usize>>) {
         let before = std::mem::replace(&mut self.screen, Screen::Loading { scene: String::new() });
         if let Screen::Ready(m) = &before {
             self.carry = Some(m.carry());
@@ -424,7 +430,7 @@ impl App {
                 }
                 Ok(solved) => match commands::require_component(&a.linkage, solved).err() {
                     Some(why) => Screen::Empty { analysis: Box::new(a), why },
-                    None => Screen::Ready(Box::new(Model::new(a))),
+                    None => Screen::Ready(Box::new(Model::new(a, minimal))),
                 },
             },
         };
@@ -586,19 +592,18 @@ fn solved_of_mut(a: &mut Analysis) -> &mut Solved {
 
 impl Model {
     /// A model on a solved analysis with at least one component (see [`App::loaded`]).
-    fn new(analysis: Analysis) -> Model {
+    /// `minimal`: the minimal complete Cayley vector's entries, when already made (else made here).
+    fn new(analysis: Analysis, minimal: Option<Vec<usize>>) -> Model {
         let solved = solved_of(&analysis);
         let n = analysis.linkage.n_joints();
         let extent = commands::drawing_extent(&analysis);
-        let mut traced = vec![false; n];
-        if let Some(last) = traced.last_mut() {
-            *last = true; // the last joint is usually the coupler point or the foot
-        }
+        let traced = vec![false; n];
         // Until a realization is computed: the drawn one (never empty).
         let positions = solved.drawn_positions.clone().unwrap_or_else(|| analysis.linkage.drawn_points());
         let ccv_len = solved.complexity.ccv.len();
         let cayley = cayley_vector(&positions, &solved.complexity.ccv);
-        let axes = [0, 1.min(ccv_len.saturating_sub(1)), 2.min(ccv_len.saturating_sub(1))];
+        let minimal = minimal.unwrap_or_else(|| minimal_entries(solved));
+        let axes = default_axes(&minimal, ccv_len);
         let picture = Picture { mirror: solved.mirrors.exist(), ..Picture::default() };
         let mut m = Model {
             cursor: Cursor {
@@ -619,8 +624,13 @@ impl Model {
             picture,
             drive: Drive { input: None, step: tolerance::TUI_ANGLE_STEP_DEGREES },
             analysis,
+            scroll: 0,
         };
         m.reset();
+        // Trace the joint that moves farthest (a ground pivot's trace is a dot).
+        let j = m.farthest_mover();
+        m.traces.traced[j] = true;
+        m.traces.selected = j;
         m.sync();
         m
     }
@@ -954,6 +964,13 @@ impl Model {
                 self.pace.step = (step / 2.0).max(self.pace.extent * tolerance::TUI_MIN_STEP_FRACTION)
             }
             Action::Reset => self.reset(),
+            Action::ScrollDown | Action::ScrollUp => {
+                // Bounded by the longest list, so coming back takes no more presses than going.
+                let s = self.solved();
+                let most = s.complexity.ccv.len().max(s.components.list[self.cursor.component].intervals.len());
+                let by = if action == Action::ScrollDown { 1 } else { -1 };
+                self.scroll = (self.scroll + by).clamp(-(most as isize), most as isize);
+            }
             // Handled by the app: the prompt, help, quit, and the edits.
             Action::GoTo
             | Action::Help
@@ -1309,6 +1326,29 @@ impl Model {
         out
     }
 
+    /// The joint whose path over the current component has the largest
+    /// bounding-box diagonal (display frame, as drawn), from a coarse walk
+    /// of at most [`tolerance::TUI_MOVER_SAMPLES`] samples; ties go to the
+    /// last such joint in the file, as does a linkage where nothing moves.
+    fn farthest_mover(&self) -> usize {
+        let (a, s) = (&self.analysis, self.solved());
+        let n = a.linkage.n_joints();
+        let mut boxes = vec![[f64::INFINITY, f64::INFINITY, f64::NEG_INFINITY, f64::NEG_INFINITY]; n];
+        let mut add = |ps: &[Point2<f64>]| {
+            for (b, p) in boxes.iter_mut().zip(ps).filter(|(_, p)| p[0].is_finite() && p[1].is_finite()) {
+                *b = [b[0].min(p[0]), b[1].min(p[1]), b[2].max(p[0]), b[3].max(p[1])];
+            }
+        };
+        add(&self.cursor.positions);
+        let segs = component_segments(&s.space, &s.components.list[self.cursor.component]);
+        let bound = tolerance::TUI_BOUNDS_STEP_FRACTION * self.pace.extent;
+        for sm in Stepper::new(&s.construction, &a.linkage, segs, bound).with_budget(tolerance::TUI_MOVER_SAMPLES) {
+            add(&sm.positions);
+        }
+        let diag = |b: &[f64; 4]| if b[2] >= b[0] { (b[2] - b[0]).hypot(b[3] - b[1]) } else { 0.0 };
+        (0..n).max_by(|&i, &j| diag(&boxes[i]).total_cmp(&diag(&boxes[j]))).unwrap_or(0)
+    }
+
     /// Bounding box [x0, y0, x1, y1] of every joint over the current component (coarse walk).
     fn component_bounds(&self) -> [f64; 4] {
         let (a, s) = (&self.analysis, self.solved());
@@ -1360,6 +1400,29 @@ fn bisect(
         }
     }
     (best.0, best.2)
+}
+
+/// The minimal complete Cayley vector's entries (indices into the complete one).
+fn minimal_entries(s: &Solved) -> Vec<usize> {
+    s.minimal_vector(crate::minimal_vector::MinimalOptions::default()).entries
+}
+
+/// The Cayley curve's default axes: the minimal vector's entries first, then
+/// the first other entries of the complete vector (`n` of them), repeating the
+/// last when there are fewer than three.
+pub fn default_axes(minimal: &[usize], n: usize) -> [usize; 3] {
+    let mut axes: Vec<usize> = minimal.iter().copied().filter(|&e| e < n).take(3).collect();
+    for e in 0..n {
+        if axes.len() == 3 {
+            break;
+        }
+        if !axes.contains(&e) {
+            axes.push(e);
+        }
+    }
+    let last = axes.last().copied().unwrap_or(0);
+    axes.resize(3, last);
+    [axes[0], axes[1], axes[2]]
 }
 
 /// The drawing in units of its own extent (the box `b`), centred: the

@@ -60,11 +60,13 @@ pub enum Action {
     ExitEdit,
     NextInputBar,
     Export,
+    ScrollDown,
+    ScrollUp,
 }
 
 impl Action {
     /// Every action, in declaration order (the keymap test checks each has a key).
-    pub const ALL: [Action; 54] = [
+    pub const ALL: [Action; 56] = [
         Action::StepForward,
         Action::StepBack,
         Action::LargeForward,
@@ -119,6 +121,8 @@ impl Action {
         Action::ExitEdit,
         Action::NextInputBar,
         Action::Export,
+        Action::ScrollDown,
+        Action::ScrollUp,
     ];
 }
 
@@ -273,7 +277,7 @@ pub const BINDINGS: &[Binding] = &[
     bind(&[Char('x')], Action::NextAxes, "next curve axes (CCV)", ""),
     bind(&[Char('+'), Char('=')], Action::StepBigger, "double the step", ""),
     bind(&[Char('-')], Action::StepSmaller, "halve the step", ""),
-    bind(&[Char('i')], Action::NextInputBar, "input bar: step/play/g by its angle (°)", "angle"),
+    bind(&[Char('i')], Action::NextInputBar, "input bar: drive by angle", "angle"),
     both(&[Char('0'), Char('d')], Action::Reset, "reset to drawn", ""),
     both(&[Char('?')], Action::Help, "this help", "help"),
     both(&[Char('q'), Ctrl('c')], Action::Quit, "quit", "quit"),
@@ -281,7 +285,7 @@ pub const BINDINGS: &[Binding] = &[
     both(&[Char('u')], Action::Undo, "undo an edit", "undo"),
     both(&[Ctrl('r'), Char('U')], Action::Redo, "redo an edit", ""),
     both(&[Char('w'), Ctrl('s')], Action::Save, "save the scene file", "save"),
-    bind(&[Char('o')], Action::Export, "export trace CSV and SVG here", ""),
+    bind(&[Char('o')], Action::Export, "export trace CSV + SVG", ""),
     edit(&[Code(KeyCode::Tab)], Action::SelectNext, "select next joint / bar", "select"),
     edit(&[Code(KeyCode::BackTab)], Action::SelectPrev, "select previous joint / bar", ""),
     edit(&[Char('/')], Action::SelectByName, "select by name (C or B-C)", ""),
@@ -299,7 +303,9 @@ pub const BINDINGS: &[Binding] = &[
     edit(&[Char('<')], Action::ShortenFar, "shorten bar (coarse)", ""),
     edit(&[Char('='), Code(KeyCode::Enter)], Action::SetValue, "type x, y or a length", "set"),
     edit(&[Code(KeyCode::Delete), Char('X')], Action::DeleteBar, "delete the bar", ""),
-    edit(&[Code(KeyCode::Esc)], Action::ExitEdit, "back to exploring; close help", ""),
+    edit(&[Code(KeyCode::Esc)], Action::ExitEdit, "explore again; close help", ""),
+    bind(&[Char('}')], Action::ScrollDown, "scroll the side lists down", ""),
+    bind(&[Char('{')], Action::ScrollUp, "scroll the side lists up", ""),
 ];
 
 /// The rows that work in `mode`.
@@ -412,6 +418,8 @@ mod tests {
             Action::ExitEdit => 51,
             Action::NextInputBar => 52,
             Action::Export => 53,
+            Action::ScrollDown => 54,
+            Action::ScrollUp => 55,
         }
     }
 

@@ -13,6 +13,7 @@ use super::edit::Item;
 use super::keymap::{Binding, Mode, bindings};
 use super::theme::Theme;
 use crate::analysis::Analysis;
+use crate::present;
 use crate::report::{fmt_num, fmt_sig};
 
 /// The smallest terminal the layout works in.
@@ -24,17 +25,21 @@ pub fn draw(frame: &mut Frame, app: &App, theme: Theme) {
     let area = frame.area();
     if area.width < MIN_WIDTH || area.height < MIN_HEIGHT {
         let text = format!(
-            "caymos needs a terminal of at least {MIN_WIDTH}×{MIN_HEIGHT};\nthis one is {}×{}. Enlarge it, or press q to quit.",
+            "caymos needs a terminal of at least {MIN_WIDTH}×{MIN_HEIGHT}; this one is {}×{}. Enlarge it, or press q to quit.",
             area.width, area.height
         );
-        let y = area.height / 2;
-        let rect = Rect { x: area.x, y: area.y + y.saturating_sub(1), width: area.width, height: 2.min(area.height) };
-        frame.render_widget(Paragraph::new(text).alignment(Alignment::Center).style(theme.warn()), rect);
+        // Wrapped to the width, centred: the minimum size and the quit key always show.
+        let rows = wrap_words(&text, usize::from(area.width.max(1)));
+        let h = (rows.len() as u16).min(area.height);
+        let rect = Rect { x: area.x, y: area.y + (area.height - h) / 2, width: area.width, height: h };
+        let lines: Vec<Line> = rows.into_iter().map(Line::raw).collect();
+        frame.render_widget(Paragraph::new(lines).alignment(Alignment::Center).style(theme.warn()), rect);
         return;
     }
-    // A file error (with its file:line:col) gets two rows, so it is not cut.
-    let status_rows = if app.file_error.is_some() && app.input.is_none() && app.message.is_none() { 2 } else { 1 };
-    let [body, status, keys] =
+    // The status line wraps to up to STATUS_ROWS rows, so nothing is cut at 80 columns.
+    let status = status_lines(app, usize::from(area.width), theme);
+    let status_rows = status.len().clamp(1, STATUS_ROWS) as u16;
+    let [body, status_area, keys] =
         Layout::vertical([Constraint::Min(8), Constraint::Length(status_rows), Constraint::Length(1)]).areas(area);
     let selected = selected_joints(app);
     match &app.screen {
@@ -63,7 +68,7 @@ pub fn draw(frame: &mut Frame, app: &App, theme: Theme) {
         }
         Screen::Ready(m) => draw_model(frame, app, m, &selected, body, theme),
     }
-    draw_status(frame, app, status, theme);
+    frame.render_widget(Paragraph::new(status), status_area);
     draw_keys(frame, app, keys, theme);
     if app.help {
         draw_help(frame, app.mode(), area, theme);
@@ -175,9 +180,10 @@ fn draw_model(frame: &mut Frame, app: &App, m: &Model, selected: &[usize], area:
     let chart_h = (comp_rows + 3).min(max_rows);
     let [top, chart] = Layout::vertical([Constraint::Min(6), Constraint::Length(chart_h)]).areas(area);
     let [main, right] = Layout::horizontal([Constraint::Min(20), Constraint::Length(side)]).areas(top);
-    let ccv_rows = m.solved().complexity.ccv.len() as u16;
-    let [readout, comps] =
-        Layout::vertical([Constraint::Length((ccv_rows + 6).min(top.height / 2 + 2)), Constraint::Min(3)]).areas(right);
+    let (head, ccv) = readout_lines(m, usize::from(side - 2), theme);
+    let want = (head.len() + ccv.len() + 2) as u16;
+    let cap = (top.height / 2 + 2).max(head.len() as u16 + 3).min(top.height.saturating_sub(3));
+    let [readout, comps] = Layout::vertical([Constraint::Length(want.min(cap)), Constraint::Min(3)]).areas(right);
     match m.view {
         View::Linkage => draw_linkage(frame, m, selected, main, theme),
         View::CayleyCurve => draw_curve(frame, m, main, theme),
@@ -281,39 +287,121 @@ fn draw_linkage(frame: &mut Frame, m: &Model, selected: &[usize], area: Rect, th
     frame.render_widget(canvas, area);
 }
 
+/// Markers of the Cayley curve's types, in the order the types are met
+/// (they repeat past the eighth type, which the legend says).
+const TYPE_MARKERS: [&str; 8] = ["●", "○", "◆", "◇", "■", "□", "▲", "△"];
+
+/// Markers placed along each run of one type, at most.
+const MARKERS_PER_RUN: usize = 4;
+
 fn draw_curve(frame: &mut Frame, m: &Model, area: Rect, theme: Theme) {
     let curve = &m.picture.curve;
     let l = &m.analysis().linkage;
     let ccv = &m.solved().complexity.ccv;
-    let (xb, yb) = equal_bounds([-1.8, -1.8, 1.8, 1.8], area);
     let names: Vec<String> =
         m.camera.axes.iter().map(|&a| ccv.get(a).map_or("-".into(), |&p| l.pair_name(p))).collect();
+    // The types in the order the curve meets them (its runs' indices).
+    let mut types: Vec<String> = Vec::new();
+    for t in &m.picture.samples.types {
+        let t = t.to_string();
+        if !types.contains(&t) {
+            types.push(t);
+        }
+    }
+    let drawn = m.solved().drawn.ty.to_string();
     let title = Line::from(vec![
         Span::styled(" Cayley curve ", theme.title()),
-        Span::styled(format!("{} · {} {}", names.join(" × "), motion_label(m), cut_note(m)), theme.dim()),
+        Span::styled(format!("· {} {}", motion_label(m), cut_note(m)), theme.dim()),
         Span::styled(if m.picture.mirror { "(stands for a mirror pair) " } else { "" }, theme.dim()),
     ]);
-    let canvas = braille(title, xb, yb, |ctx| {
+    let block = Block::bordered().title(title);
+    let inner = block.inner(area);
+    frame.render_widget(block, area);
+    // Below the curve: each axis's name and range, and the legend of types.
+    let width = usize::from(inner.width.max(1));
+    let r = &curve.range;
+    let axes: Vec<String> = (0..3).map(|k| format!("{} {}…{}", names[k], fmt_num(r.lo[k]), fmt_num(r.hi[k]))).collect();
+    let mut text = pack(&axes, "  ", width);
+    let mut legend: Vec<String> = types
+        .iter()
+        .enumerate()
+        .map(|(k, t)| format!("{} {}", TYPE_MARKERS[k % TYPE_MARKERS.len()], present::type_label(t, Some(&drawn))))
+        .collect();
+    legend.push("◎ here".to_string());
+    text.extend(pack(&legend, "  ", width));
+    let text_rows = (text.len() as u16).min(inner.height / 2);
+    let [canvas_area, text_area] = Layout::vertical([Constraint::Min(3), Constraint::Length(text_rows)]).areas(inner);
+    if (text.len() as u16) > text_rows && text_rows > 0 {
+        let last = usize::from(text_rows) - 1;
+        text.truncate(usize::from(text_rows));
+        text[last] = format!("{}…", text[last].chars().take(width.saturating_sub(1)).collect::<String>());
+    }
+    let lines: Vec<Line> = text.into_iter().map(|t| Line::styled(t, theme.dim())).collect();
+    frame.render_widget(Paragraph::new(lines), text_area);
+    // Each axis drawn from the corner of the lowest values to its highest, named at its end.
+    let rot = m.camera.rotation();
+    let at = |n: [f64; 3]| {
+        let p = rot * nalgebra::Vector3::new(n[0], n[2], n[1]);
+        (p.x, p.y)
+    };
+    let corner = at([-1.0, -1.0, -1.0]);
+    let ends = [at([1.0, -1.0, -1.0]), at([-1.0, 1.0, -1.0]), at([-1.0, -1.0, 1.0])];
+    let (xb, yb) = equal_bounds([-1.8, -1.8, 1.8, 1.8], canvas_area);
+    let canvas = Canvas::default().marker(Marker::Braille).x_bounds(xb).y_bounds(yb).paint(|ctx| {
+        for (k, e) in ends.iter().enumerate() {
+            ctx.draw(&Segment2::new(corner.0, corner.1, e.0, e.1, theme.non_edge()));
+            ctx.print(e.0, e.1, Line::styled(names[k].clone(), theme.dim()));
+        }
+        ctx.layer();
         for (k, pts) in &curve.runs {
             for w in pts.windows(2) {
                 ctx.draw(&Segment2::new(w[0].0, w[0].1, w[1].0, w[1].1, theme.of_type(*k)));
             }
         }
         ctx.layer();
-        ctx.print(curve.here.0, curve.here.1, Line::styled("●", theme.highlight()));
+        // Markers tell the types apart without colour.
+        for (k, pts) in &curve.runs {
+            let stride = pts.len().div_ceil(MARKERS_PER_RUN).max(1);
+            let marker = TYPE_MARKERS[k % TYPE_MARKERS.len()];
+            for p in pts.iter().skip(stride / 2).step_by(stride) {
+                ctx.print(p.0, p.1, Line::styled(marker, Style::default().fg(theme.of_type(*k))));
+            }
+        }
+        ctx.print(curve.here.0, curve.here.1, Line::styled("◎", theme.highlight()));
     });
-    frame.render_widget(canvas, area);
+    frame.render_widget(canvas, canvas_area);
 }
 
-fn draw_readout(frame: &mut Frame, m: &Model, area: Rect, theme: Theme) {
+/// `items` joined by `sep` into rows of at most `width` characters (an item
+/// longer than a row gets a row of its own, wrapped).
+fn pack(items: &[String], sep: &str, width: usize) -> Vec<String> {
+    let mut rows: Vec<String> = Vec::new();
+    let mut row = String::new();
+    for it in items {
+        let (used, len) = (row.chars().count(), it.chars().count());
+        if used > 0 && used + sep.chars().count() + len > width {
+            rows.push(std::mem::take(&mut row));
+        }
+        if !row.is_empty() {
+            row.push_str(sep);
+        }
+        row.push_str(it);
+    }
+    if !row.is_empty() {
+        rows.push(row);
+    }
+    rows.into_iter().flat_map(|r| wrap_words(&r, width)).collect()
+}
+
+/// The readout's fixed head (λ, the type, flat steps, the step) and its
+/// Cayley-vector rows, for a panel `width` characters inside.
+fn readout_lines(m: &Model, width: usize, theme: Theme) -> (Vec<Line<'static>>, Vec<Line<'static>>) {
     let l = &m.analysis().linkage;
     let here = m.current();
     let flat = m.flat_here();
-    let mut ty_spans = vec![Span::raw("type ")];
-    for (k, c) in here.ty.to_string().chars().enumerate() {
-        let style = if flat.contains(&k) { theme.highlight() } else { theme.text() };
-        ty_spans.push(Span::styled(c.to_string(), style));
-    }
+    let drawn = m.solved().drawn.ty.to_string();
+    let mut head = vec![Line::from(vec![Span::raw("λ    "), Span::styled(fmt_sig(here.lambda, 8), theme.highlight())])];
+    head.extend(type_rows(&here.ty.to_string(), flat, &drawn, width, theme));
     let flat_text = if flat.is_empty() {
         "—".to_string()
     } else {
@@ -325,20 +413,93 @@ fn draw_readout(frame: &mut Frame, m: &Model, area: Rect, theme: Theme) {
             .collect::<Vec<_>>()
             .join(", ")
     };
-    let mut lines = vec![
-        Line::from(vec![Span::raw("λ    "), Span::styled(fmt_sig(here.lambda, 8), theme.highlight())]),
-        Line::from(ty_spans),
-        Line::raw(format!("flat {flat_text}")),
-        Line::raw(format!("step {}{}", fmt_num(m.pace.step), if m.pace.playing { "  ▶ playing" } else { "" })),
-    ];
-    lines.extend(m.drive_line().map(|d| Line::raw(format!("in   {d}"))));
+    head.extend(wrap_words(&format!("flat {flat_text}"), width).into_iter().map(Line::raw));
+    head.push(Line::raw(format!("step {}{}", fmt_num(m.pace.step), if m.pace.playing { "  ▶ playing" } else { "" })));
+    head.extend(m.drive_line().map(|d| Line::raw(format!("in   {d}"))));
     let v = &m.cursor.cayley;
-    for (k, &[p, q]) in m.solved().complexity.ccv.iter().enumerate() {
+    let ccv = m.solved().complexity.ccv.iter().enumerate().map(|(k, &[p, q])| {
         let name = format!("{}–{}", l.names[p], l.names[q]);
-        lines.push(Line::from(vec![Span::styled(format!("{name:<10}"), theme.dim()), Span::raw(fmt_sig(v[k], 6))]));
+        Line::from(vec![Span::styled(format!("{name:<10}"), theme.dim()), Span::raw(fmt_sig(v[k], 6))])
+    });
+    (head, ccv.collect())
+}
+
+/// The type in the readout, every sign readable, the flat steps' signs
+/// highlighted: up to [`present::TYPE_PLAIN`] signs on one line; up to
+/// [`present::TYPE_GROUPED`] in groups of five, rows starting with their step
+/// number; longer as the steps whose sign differs from the drawn type.
+fn type_rows(ty: &str, flat: &[usize], drawn: &str, width: usize, theme: Theme) -> Vec<Line<'static>> {
+    let signs: Vec<char> = ty.chars().collect();
+    let n = signs.len();
+    let sign = |k: usize| {
+        let style = if flat.contains(&k) { theme.highlight() } else { theme.text() };
+        Span::styled(signs[k].to_string(), style)
+    };
+    if n <= present::TYPE_PLAIN {
+        let mut spans = vec![Span::raw("type ")];
+        spans.extend((0..n).map(sign));
+        return vec![Line::from(spans)];
     }
-    let p = Paragraph::new(lines).block(Block::bordered().title(Span::styled(" realization ", theme.title())));
-    frame.render_widget(p, area);
+    if n > present::TYPE_GROUPED {
+        let mut text = format!("type {}", present::type_against(ty, drawn));
+        if let Some(&k) = flat.first() {
+            text.push_str(&format!(" (step {} is {})", k + 1, signs[k]));
+        }
+        return wrap_words(&text, width).into_iter().map(Line::raw).collect();
+    }
+    // "type " then the first step's number, right-aligned, then groups of five.
+    let num_w = n.to_string().len();
+    let per_row = (width.saturating_sub(5 + num_w + 1) + 1) / 6;
+    let per_row = per_row.max(1) * 5;
+    (0..n)
+        .step_by(per_row)
+        .enumerate()
+        .map(|(r, from)| {
+            let mut spans = vec![
+                Span::raw(if r == 0 { "type " } else { "     " }),
+                Span::styled(format!("{:>num_w$} ", from + 1), theme.dim()),
+            ];
+            for k in from..(from + per_row).min(n) {
+                if k > from && k % 5 == 0 {
+                    spans.push(Span::styled("·", theme.dim()));
+                }
+                spans.push(sign(k));
+            }
+            Line::from(spans)
+        })
+        .collect()
+}
+
+/// "+N more" for a list showing `shown` of `total` rows from `first`, with the scroll keys.
+fn more_note(first: usize, shown: usize, total: usize) -> String {
+    let (above, below) = (first, total.saturating_sub(first + shown));
+    match (above, below) {
+        (0, b) => format!("+{b} more · }} scrolls"),
+        (a, 0) => format!("+{a} more above · {{ scrolls"),
+        (a, b) => format!("+{a} above, +{b} below · {{ }}"),
+    }
+}
+
+/// The first row of a window of `rows` over `total`, `auto` moved by `scroll`, kept in range.
+fn scrolled(auto: usize, scroll: isize, rows: usize, total: usize) -> usize {
+    let max = total.saturating_sub(rows) as isize;
+    (auto as isize + scroll).clamp(0, max.max(0)) as usize
+}
+
+fn draw_readout(frame: &mut Frame, m: &Model, area: Rect, theme: Theme) {
+    let (mut lines, ccv) = readout_lines(m, usize::from(area.width.saturating_sub(2)), theme);
+    let room = usize::from(area.height.saturating_sub(2)).saturating_sub(lines.len());
+    let mut block = Block::bordered().title(Span::styled(" realization ", theme.title()));
+    if ccv.len() <= room {
+        lines.extend(ccv);
+    } else {
+        // Scrolled by { }, the rest counted in the bottom border.
+        let first = scrolled(0, m.scroll, room, ccv.len());
+        let n = ccv.len();
+        lines.extend(ccv.into_iter().skip(first).take(room));
+        block = block.title_bottom(Span::styled(format!(" {} ", more_note(first, room, n)), theme.dim()));
+    }
+    frame.render_widget(Paragraph::new(lines).block(block), area);
 }
 
 fn draw_components(frame: &mut Frame, m: &Model, area: Rect, theme: Theme) {
@@ -382,8 +543,21 @@ fn draw_intervals(frame: &mut Frame, m: &Model, area: Rect, theme: Theme) {
     let (Some(first), Some(last)) = (union.first(), union.last()) else { return };
     let (lo, hi) = (first[0], last[1]);
     let n_steps = s.dec.steps.len();
-    let label_w = n_steps.clamp(5, 12);
     let inner = area.width.saturating_sub(2) as usize;
+    // Types grouped in fives when they fit a third of the row, else against the drawn type.
+    let drawn = s.drawn.ty.to_string();
+    let label = |ty: &str| {
+        let short = present::short_type(ty);
+        if short.chars().count() <= inner / 3 || ty.chars().count() != drawn.chars().count() {
+            short
+        } else {
+            present::type_against(ty, &drawn)
+        }
+    };
+    let comp = &s.components.list[m.cursor.component];
+    let labels: Vec<String> = comp.intervals.iter().map(|&i| label(&s.space.intervals[i].ty.to_string())).collect();
+    let longest = labels.iter().map(|t| t.chars().count()).max().unwrap_or(0);
+    let label_w = longest.max(n_steps.min(5)).clamp(5, (inner / 2).max(5));
     let width = inner.saturating_sub(label_w + 3).max(4);
     let col = |x: f64| -> usize {
         let t = if hi > lo { (x - lo) / (hi - lo) } else { 0.5 };
@@ -411,19 +585,18 @@ fn draw_intervals(frame: &mut Frame, m: &Model, area: Rect, theme: Theme) {
         Span::styled(format!("{:<label_w$} ", "union"), theme.dim()),
         Span::raw(bar(&union.iter().map(|u| (u[0], u[1])).collect::<Vec<_>>(), Some(here.lambda))),
     ])];
-    let comp = &s.components.list[m.cursor.component];
     let rows = area.height.saturating_sub(3) as usize;
+    let total = comp.intervals.len();
     let pos = comp.intervals.iter().position(|&i| i == cur_interval).unwrap_or(0);
-    let start = pos.saturating_sub(rows.saturating_sub(1) / 2).min(comp.intervals.len().saturating_sub(rows));
-    for &i in comp.intervals.iter().skip(start).take(rows) {
+    let auto = pos.saturating_sub(rows.saturating_sub(1) / 2).min(total.saturating_sub(rows));
+    let start = scrolled(auto, m.scroll, rows, total);
+    for (&i, ty) in comp.intervals.iter().zip(&labels).skip(start).take(rows) {
         let iv = &s.space.intervals[i];
         let current = i == cur_interval;
-        let mut ty = iv.ty.to_string();
+        let mut ty = ty.clone();
         if ty.chars().count() > label_w {
-            ty = format!(
-                "…{}",
-                ty.chars().rev().take(label_w - 1).collect::<Vec<_>>().into_iter().rev().collect::<String>()
-            );
+            // Only past half the row (six differing signs listed): said by the ellipsis.
+            ty = format!("{}…", ty.chars().take(label_w - 1).collect::<String>());
         }
         let style = if current { theme.highlight() } else { theme.text() };
         lines.push(Line::from(vec![
@@ -434,11 +607,20 @@ fn draw_intervals(frame: &mut Frame, m: &Model, area: Rect, theme: Theme) {
     let title = Line::from(vec![
         Span::styled(" Cayley space ", theme.title()),
         Span::styled(
-            format!("λ from {} to {} · {} oriented intervals ", fmt_num(lo), fmt_num(hi), s.space.intervals.len()),
+            format!(
+                "λ from {} to {} · {} oriented intervals ({total} here) ",
+                fmt_num(lo),
+                fmt_num(hi),
+                s.space.intervals.len()
+            ),
             theme.dim(),
         ),
     ]);
-    frame.render_widget(Paragraph::new(lines).block(Block::bordered().title(title)), area);
+    let mut block = Block::bordered().title(title);
+    if total > rows {
+        block = block.title_bottom(Span::styled(format!(" {} ", more_note(start, rows, total)), theme.dim()));
+    }
+    frame.render_widget(Paragraph::new(lines).block(block), area);
 }
 
 /// The edit panel (in place of the component list while editing): the
@@ -473,26 +655,30 @@ fn draw_edit_panel(frame: &mut Frame, app: &App, area: Rect, theme: Theme) {
     frame.render_widget(p, area);
 }
 
-fn draw_status(frame: &mut Frame, app: &App, area: Rect, theme: Theme) {
-    let line = if let Some(input) = &app.input {
+/// The most rows the status line takes.
+const STATUS_ROWS: usize = 3;
+
+/// The status line, word-wrapped to `width` in at most [`STATUS_ROWS`] rows
+/// (the last ending in `…` if even that is too short): the prompt, else a
+/// message, a file error, the edit hint or the traces and marks.
+fn status_lines(app: &App, width: usize, theme: Theme) -> Vec<Line<'static>> {
+    let (text, style) = if let Some(input) = &app.input {
         let (label, enter) = match input.kind {
             PromptKind::GoTo => ("go to (λ or TYPE@λ): ".to_string(), "go"),
             PromptKind::Select => ("select (joint C or bar B-C): ".to_string(), "select"),
             PromptKind::Value => (format!("{} = ", app.item_name(app.item())), "set"),
         };
-        Line::from(vec![
+        return vec![Line::from(vec![
             Span::styled(label, theme.key()),
             Span::raw(format!("{}▏", input.text)),
             Span::styled(format!("  Enter {enter} · Esc cancel"), theme.dim()),
-        ])
+        ])];
     } else if let Some(msg) = &app.message {
-        Line::styled(msg.clone(), theme.highlight())
+        (msg.clone(), theme.highlight())
     } else if let Some(e) = &app.file_error {
-        let p = Paragraph::new(Line::styled(e.clone(), theme.warn())).wrap(Wrap { trim: true });
-        frame.render_widget(p, area);
-        return;
+        (e.clone(), theme.warn())
     } else if app.editor.on {
-        Line::styled(
+        (
             format!("editing {} · Tab selects · arrows move · +/- length · = types a value", app.item_name(app.item())),
             theme.dim(),
         )
@@ -507,20 +693,57 @@ fn draw_status(frame: &mut Frame, app: &App, area: Rect, theme: Theme) {
         let names = &m.analysis().linkage.names;
         let t = &m.traces;
         let traced: Vec<&str> = (0..t.traced.len()).filter(|&j| t.traced[j]).map(|j| names[j].as_str()).collect();
-        Line::styled(
-            format!(
-                "joint {} · traces {} [{}] {}",
-                names[t.selected],
-                if t.on { "on" } else { "off" },
-                traced.join(","),
-                marks.join(" · ")
-            ),
-            theme.dim(),
-        )
+        let text = format!(
+            "joint {} · traces {} [{}] {}",
+            names[t.selected],
+            if t.on { "on" } else { "off" },
+            traced.join(","),
+            marks.join(" · ")
+        );
+        (text, theme.dim())
     } else {
-        Line::raw("")
+        (String::new(), theme.text())
     };
-    frame.render_widget(Paragraph::new(line), area);
+    let mut rows = wrap_words(&text, width.max(1));
+    if rows.len() > STATUS_ROWS {
+        rows.truncate(STATUS_ROWS);
+        let last = &mut rows[STATUS_ROWS - 1];
+        let keep = width.max(2) - 1;
+        *last = format!("{}…", last.chars().take(keep).collect::<String>());
+    }
+    rows.into_iter().map(|r| Line::styled(r, style)).collect()
+}
+
+/// `text` in rows of at most `width` characters, broken at spaces (a word
+/// longer than a row is broken inside); at least one row.
+pub fn wrap_words(text: &str, width: usize) -> Vec<String> {
+    let width = width.max(1);
+    let mut rows: Vec<String> = Vec::new();
+    let mut row = String::new();
+    for word in text.split(' ') {
+        let mut word: Vec<char> = word.chars().collect();
+        let used = row.chars().count();
+        if used > 0 && used + 1 + word.len() > width {
+            rows.push(std::mem::take(&mut row));
+        }
+        if !row.is_empty() {
+            row.push(' ');
+        }
+        while word.len() > width - row.chars().count() && !word.is_empty() {
+            let room = width - row.chars().count();
+            if room == 0 {
+                rows.push(std::mem::take(&mut row));
+                continue;
+            }
+            row.extend(word.drain(..room));
+            rows.push(std::mem::take(&mut row));
+        }
+        row.extend(word);
+    }
+    if !row.is_empty() || rows.is_empty() {
+        rows.push(row);
+    }
+    rows
 }
 
 fn draw_keys(frame: &mut Frame, app: &App, area: Rect, theme: Theme) {

@@ -277,12 +277,15 @@ fn camera_keys_turn_tilt_and_change_axes_and_the_curve_follows() {
     assert!(n > 3, "{n}");
     press(&mut a, "x");
     let axes = a.model().unwrap().camera.axes;
-    assert_eq!(axes, [0, 1, 3]);
+    assert_ne!(axes, cam.axes, "x moves on from the minimal vector's axes");
+    assert!(axes.iter().all(|&k| k < n));
     let screen = format!("{}", render(&a, 100, 30, Theme { color: false }).backend());
     let names = &a.model().unwrap().analysis().linkage;
     let ccv = &a.model().unwrap().solved().complexity.ccv;
-    let title = [0, 1, 3].map(|k| names.pair_name(ccv[k])).join(" × ");
-    assert!(screen.contains(&title), "the title names the axes {title}: {screen}");
+    for k in axes {
+        let name = names.pair_name(ccv[k]);
+        assert!(screen.contains(&name), "the axis {name} is named: {screen}");
+    }
 }
 
 /// Components and paths are numbered from 1 on screen, like `--arc 1|2`.
@@ -413,7 +416,7 @@ proptest! {
     /// Nothing a user types crashes the UI, drawing included.
     #[test]
     fn no_key_sequence_panics(keys in proptest::collection::vec(prop::sample::select(
-        "→←↑↓⇒LH][ nNpgabc12iI°\u{238b}tjJvrReExq+-0d?@.,59⏎mmmmu/=X<>kKU⇥⇤⌫⌦".chars().collect::<Vec<_>>()), 1..60), scene in prop::sample::select(vec!["jansen", "peaucellier", "stephenson", "fourbar-crank-rocker"])) {
+        "→←↑↓⇒LH][{} nNpgabc12iI°\u{238b}tjJvrReExq+-0d?@.,59⏎mmmmu/=X<>kKU⇥⇤⌫⌦".chars().collect::<Vec<_>>()), 1..60), scene in prop::sample::select(vec!["jansen", "peaucellier", "stephenson", "fourbar-crank-rocker"])) {
         let mut a = app(scene);
         let mut t = Terminal::new(TestBackend::new(80, 24)).unwrap();
         for c in keys {
@@ -631,4 +634,162 @@ pub fn type_and_expect_clean_exit(
         parser.process(&bytes);
     }
     assert!(!parser.screen().alternate_screen(), "terminal left in the alternate screen");
+}
+
+/// Issue 13: the screen as text, lines joined.
+fn screen(a: &App, w: u16, h: u16) -> String {
+    let t = render(a, w, h, Theme { color: false });
+    let buf = t.backend().buffer().clone();
+    (0..h).map(|y| (0..w).map(|x| buf[(x, y)].symbol().to_string()).collect::<String>()).collect::<Vec<_>>().join("\n")
+}
+
+#[test]
+fn snapshot_a_25_step_type_is_read_whole_in_groups_of_five() {
+    let a = App::ready(analyse(caymos::generate::chain(25), None).unwrap());
+    let ty = a.model().unwrap().current().ty.to_string();
+    assert_eq!(ty.chars().count(), 25);
+    let s = screen(&a, 80, 24);
+    // Every sign is on screen: rows of three groups of five, each row led by its first step.
+    let signs: Vec<char> = ty.chars().collect();
+    let groups: Vec<String> = signs.chunks(5).map(|c| c.iter().collect()).collect();
+    assert!(s.contains(&format!(" 1 {}·{}·{}", groups[0], groups[1], groups[2])), "{s}");
+    assert!(s.contains(&format!("16 {}·{}", groups[3], groups[4])), "{s}");
+    insta::assert_snapshot!("chain25_readout_80x24", render(&a, 80, 24, Theme { color: false }).backend());
+}
+
+#[test]
+fn snapshot_cayley_curve_has_axes_ranges_and_a_legend_without_colour() {
+    let mut a = app("limacon");
+    press(&mut a, "v");
+    let m = a.model().unwrap();
+    let s = screen(&a, 80, 24);
+    let l = &m.analysis().linkage;
+    let ccv = &m.solved().complexity.ccv;
+    for (k, &ax) in m.camera.axes.iter().enumerate() {
+        let name = l.pair_name(ccv[ax]);
+        let range = format!(
+            "{name} {}…{}",
+            caymos::report::fmt_num(m.picture.curve.range.lo[k]),
+            caymos::report::fmt_num(m.picture.curve.range.hi[k])
+        );
+        assert!(s.contains(&range), "{range} in {s}");
+    }
+    // Each type met has its own marker in the legend, and the markers are drawn.
+    let mut types: Vec<String> = Vec::new();
+    for t in &m.picture.samples.types {
+        if !types.contains(&t.to_string()) {
+            types.push(t.to_string());
+        }
+    }
+    assert!(types.len() >= 2);
+    for (k, t) in types.iter().enumerate() {
+        let marker = ["●", "○", "◆", "◇", "■", "□", "▲", "△"][k];
+        assert!(s.contains(&format!("{marker} {t}")), "{marker} {t} in {s}");
+    }
+    // Markers are drawn on the curve too, not only in the legend.
+    let on_curve: usize = ["●", "○", "◆", "◇", "■", "□", "▲", "△"].iter().map(|mk| s.matches(mk).count()).sum();
+    assert!(on_curve > types.len(), "markers on the curve: {s}");
+    insta::assert_snapshot!("limacon_curve_monochrome_80x24", render(&a, 80, 24, Theme { color: false }).backend());
+}
+
+#[test]
+fn the_curve_axes_default_to_the_minimal_cayley_vector() {
+    let a = app("limacon");
+    let m = a.model().unwrap();
+    let minimal = m.solved().minimal_vector(caymos::minimal_vector::MinimalOptions::default()).entries;
+    let n = m.solved().complexity.ccv.len();
+    let axes = caymos::tui::app::default_axes(&minimal, n);
+    assert_eq!(m.camera.axes, axes);
+    for (k, &e) in minimal.iter().take(3).enumerate() {
+        assert_eq!(axes[k], e);
+    }
+    assert_eq!(caymos::tui::app::default_axes(&[2, 4], 6), [2, 4, 0]);
+    assert_eq!(caymos::tui::app::default_axes(&[], 1), [0, 0, 0]);
+}
+
+#[test]
+fn snapshot_panels_say_how_much_more_and_scroll_on_limacon() {
+    let mut a = app("limacon");
+    let s = screen(&a, 80, 24);
+    assert!(s.contains("more · } scrolls"), "{s}");
+    let m = a.model().unwrap();
+    let l = &m.analysis().linkage;
+    let names: Vec<String> =
+        m.solved().complexity.ccv.iter().map(|&p| format!("{}–{}", l.names[p[0]], l.names[p[1]])).collect();
+    let last = names.last().unwrap().clone();
+    assert!(!s.contains(&format!("│{last} ")), "{last} hidden at first: {s}");
+    insta::assert_snapshot!("limacon_more_80x24", render(&a, 80, 24, Theme { color: false }).backend());
+    // Scrolling down shows the rest, every entry once on the way; up comes back.
+    let mut seen = std::collections::BTreeSet::new();
+    for _ in 0..names.len() {
+        let s = screen(&a, 80, 24);
+        for n in &names {
+            if s.contains(&format!("│{n} ")) {
+                seen.insert(n.clone());
+            }
+        }
+        press(&mut a, "}");
+    }
+    assert_eq!(seen.len(), names.len(), "{seen:?}");
+    assert!(screen(&a, 80, 24).contains("more above"));
+    for _ in 0..names.len() {
+        press(&mut a, "{");
+    }
+    assert_eq!(screen(&a, 80, 24), s);
+}
+
+#[test]
+fn snapshot_too_small_40x12_shows_the_minimum_and_the_quit_key() {
+    let a = app("jansen");
+    let s = screen(&a, 40, 12);
+    let flat = s.split_whitespace().collect::<Vec<_>>().join(" ");
+    assert!(flat.contains("at least 60×18;"), "{s}");
+    assert!(flat.contains("press q to quit."), "{s}");
+    insta::assert_snapshot!("too_small_40x12", render(&a, 40, 12, Theme { color: false }).backend());
+}
+
+#[test]
+fn long_status_lines_wrap_instead_of_being_cut() {
+    let mut a = app("jansen");
+    let msg = "different components: closest pair -+--@53.7922671 / ++--@23.7922671 at Cayley distance 1.23456789e-7 (and more words to wrap)";
+    a.message = Some(msg.to_string());
+    let s = screen(&a, 80, 24);
+    let flat = s.split_whitespace().collect::<Vec<_>>().join(" ");
+    assert!(flat.contains(msg), "{s}");
+    assert!(s.contains("? help"), "the key bar stays: {s}");
+}
+
+#[test]
+fn the_default_traced_joint_moves_farthest() {
+    for scene in ["jansen", "limacon", "fourbar-crank-rocker"] {
+        let a = app(scene);
+        let m = a.model().unwrap();
+        let j = m.traces.selected;
+        assert!(m.traces.traced[j] && m.traces.traced.iter().filter(|&&t| t).count() == 1);
+        assert!(!m.analysis().linkage.ground.contains(&j), "{scene}: traced a ground pivot");
+        // Its path over the drawn component spans at least any other joint's.
+        let diag = |k: usize| {
+            let ps: Vec<[f64; 2]> = m.picture.samples.positions.iter().map(|p| [p[k][0], p[k][1]]).collect();
+            let (x0, x1) = ps.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| (a.min(p[0]), b.max(p[0])));
+            let (y0, y1) = ps.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| (a.min(p[1]), b.max(p[1])));
+            (x1 - x0).hypot(y1 - y0)
+        };
+        let best = (0..m.traces.traced.len()).map(diag).fold(0.0, f64::max);
+        assert!(diag(j) >= best * 0.95, "{scene}: joint {j} spans {} of {best}", diag(j));
+    }
+}
+
+/// The help overlay at 80×24 shows every key's whole description, in both
+/// modes (it used to cut the longer ones without saying so).
+#[test]
+fn help_at_80x24_shows_every_description_whole() {
+    use caymos::tui::keymap::{Mode, bindings};
+    for (mode, keys) in [(Mode::Explore, "?"), (Mode::Edit, "m?")] {
+        let mut a = app("jansen");
+        press(&mut a, keys);
+        let s = screen(&a, 80, 24);
+        for b in bindings(mode) {
+            assert!(s.contains(b.help), "{mode:?}: \"{}\" is cut in the help:\n{s}", b.help);
+        }
+    }
 }

@@ -101,6 +101,9 @@ pub const TUI_TRACE_STEP_FRACTION: f64 = 1.0 / 150.0;
 /// Step of the coarse walk that frames the terminal UI's view (× the drawing's diagonal).
 pub const TUI_BOUNDS_STEP_FRACTION: f64 = 1.0 / 20.0;
 
+/// Samples of the coarse walk that picks the terminal UI's default traced joint.
+pub const TUI_MOVER_SAMPLES: usize = 200;
+
 /// Default sample budget of one walk (`trace`, `svg`, each path of `path`,
 /// `bench`'s stepping rows): realizations computed. `--max-samples` changes it.
 pub const DEFAULT_MAX_SAMPLES: usize = 100_000;
