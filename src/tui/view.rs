@@ -529,12 +529,17 @@ fn draw_components(frame: &mut Frame, m: &Model, area: Rect, theme: Theme) {
             Line::styled(text, if here { theme.highlight() } else { theme.text() })
         })
         .collect();
-    let title = if s.lazy {
-        Span::styled(format!(" components ({n} walked lazily; n walks more) "), theme.title())
+    // Lazily: the count so far in the title, how to walk more in the bottom
+    // border (one title would not fit the 80-column layout's panel).
+    let mut block = Block::bordered();
+    if s.lazy {
+        block = block
+            .title(Span::styled(format!(" components ({n} walked) "), theme.title()))
+            .title_bottom(Span::styled(" lazy · n walks more ", theme.dim()));
     } else {
-        Span::styled(format!(" components ({n}) "), theme.title())
-    };
-    frame.render_widget(Paragraph::new(lines).block(Block::bordered().title(title)), area);
+        block = block.title(Span::styled(format!(" components ({n}) "), theme.title()));
+    }
+    frame.render_widget(Paragraph::new(lines).block(block), area);
 }
 
 fn draw_intervals(frame: &mut Frame, m: &Model, area: Rect, theme: Theme) {

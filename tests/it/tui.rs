@@ -244,7 +244,7 @@ fn next_component_walks_more_components_in_a_lazy_analysis() {
     assert_eq!(m.n_components(), 2, "{:?}", a.message);
     assert_eq!(m.cursor.component, 1);
     let screen = format!("{}", render(&a, 100, 30, Theme { color: false }).backend());
-    assert!(screen.contains("walked lazily"), "{screen}");
+    assert!(screen.contains("components (2 walked)") && screen.contains("lazy · n walks more"), "{screen}");
 }
 
 /// `r`/`R` turn the Cayley curve's camera, `e`/`E` tilt it (up to a limit),
