@@ -352,6 +352,9 @@ pub struct App {
     installed: u64,
     /// The exploration to restore when the next analysis can be explored.
     carry: Option<Carry>,
+    /// The next analysis starts at the drawn realization (a new base: its
+    /// (type, λ) name other realizations).
+    fresh_start: bool,
 }
 
 impl App {
@@ -379,6 +382,7 @@ impl App {
             asked: 0,
             installed: 0,
             carry: None,
+            fresh_start: false,
         }
     }
 
@@ -418,8 +422,9 @@ impl App {
     fn install(&mut self, analysis: Result<Analysis, String>, minimal: Option<Vec<usize>>) {
         let before = std::mem::replace(&mut self.screen, Screen::Loading { scene: String::new() });
         if let Screen::Ready(m) = &before {
-            self.carry = Some(m.carry());
+            self.carry = (!self.fresh_start).then(|| m.carry());
         }
+        self.fresh_start = false;
         drop(before);
         self.screen = match analysis {
             Err(message) => Screen::Failed { scene: self.doc.scene.name.clone(), message },
@@ -475,6 +480,32 @@ impl App {
         self.message = None;
         match action {
             Action::GoTo => self.input = Some(Prompt { kind: PromptKind::GoTo, text: String::new() }),
+            Action::NextBase => {
+                // Every valid base in one fixed order (by joint index), so `B` cycles through them all.
+                let (l, dec) = (&m.analysis().linkage, &m.solved().dec);
+                let sorted = |[p, q]: [usize; 2]| [p.min(q), p.max(q)];
+                let mut bases: Vec<[usize; 2]> = dec.other_bases(l).into_iter().map(sorted).collect();
+                bases.push(sorted(dec.base));
+                bases.sort_unstable();
+                bases.dedup();
+                let here = bases.iter().position(|&b| b == sorted(dec.base)).unwrap_or(0);
+                let next = bases[(here + 1) % bases.len()];
+                self.message = Some(if bases.len() == 1 {
+                    format!("{} is the only valid base non-edge", l.pair_name(next))
+                } else {
+                    format!(
+                        "base {} (the realization space is the same; λ and types are of the new base: at the drawn realization)",
+                        l.pair_name(next)
+                    )
+                });
+                if bases.len() > 1 {
+                    self.base = Some(next);
+                    // A (type, λ) of one base names nothing on another: start at the drawn realization.
+                    self.fresh_start = true;
+                    self.reanalyse();
+                }
+                return;
+            }
             Action::Export => {
                 self.message = Some(match super::export::export(m, self.doc.stem(), &self.save_dir) {
                     Ok(e) => {
@@ -997,7 +1028,8 @@ impl Model {
             | Action::SetValue
             | Action::DeleteBar
             | Action::ExitEdit
-            | Action::Export => {}
+            | Action::Export
+            | Action::NextBase => {}
         }
         Ok(None)
     }

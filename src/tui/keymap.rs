@@ -62,11 +62,12 @@ pub enum Action {
     Export,
     ScrollDown,
     ScrollUp,
+    NextBase,
 }
 
 impl Action {
     /// Every action, in declaration order (the keymap test checks each has a key).
-    pub const ALL: [Action; 56] = [
+    pub const ALL: [Action; 57] = [
         Action::StepForward,
         Action::StepBack,
         Action::LargeForward,
@@ -123,6 +124,7 @@ impl Action {
         Action::Export,
         Action::ScrollDown,
         Action::ScrollUp,
+        Action::NextBase,
     ];
 }
 
@@ -275,6 +277,7 @@ pub const BINDINGS: &[Binding] = &[
     bind(&[Char('e')], Action::TiltUp, "tilt curve up", ""),
     bind(&[Char('E')], Action::TiltDown, "tilt curve down", ""),
     bind(&[Char('x')], Action::NextAxes, "next curve axes (CCV)", ""),
+    bind(&[Char('B')], Action::NextBase, "next valid base non-edge", ""),
     bind(&[Char('+'), Char('=')], Action::StepBigger, "double the step", ""),
     bind(&[Char('-')], Action::StepSmaller, "halve the step", ""),
     bind(&[Char('i')], Action::NextInputBar, "input bar: drive by angle", "angle"),
@@ -420,6 +423,7 @@ mod tests {
             Action::Export => 53,
             Action::ScrollDown => 54,
             Action::ScrollUp => 55,
+            Action::NextBase => 56,
         }
     }
 

@@ -788,11 +788,11 @@ fn draw_keys(frame: &mut Frame, app: &App, area: Rect, theme: Theme) {
 fn draw_help(frame: &mut Frame, mode: Mode, area: Rect, theme: Theme) {
     let rows: Vec<&Binding> = bindings(mode).collect();
     // One column when it fits, else two side by side.
-    let rows_needed = rows.len() as u16 + 3;
+    let rows_needed = rows.len() as u16 + 2;
     let columns: usize = if rows_needed <= area.height.saturating_sub(2) { 1 } else { 2 };
     let per_column = rows.len().div_ceil(columns);
     let w = if columns == 1 { 64 } else { 118 }.min(area.width.saturating_sub(2));
-    let h = (per_column as u16 + 3).min(area.height.saturating_sub(2));
+    let h = (per_column as u16 + 2).min(area.height.saturating_sub(2));
     let rect = Rect { x: area.x + (area.width - w) / 2, y: area.y + (area.height - h) / 2, width: w, height: h };
     let col_w = (w.saturating_sub(2) as usize) / columns;
     // Every key of a row, as the key table has them; the column fits the longest.
@@ -813,8 +813,11 @@ fn draw_help(frame: &mut Frame, mode: Mode, area: Rect, theme: Theme) {
             Line::from(spans)
         })
         .collect();
-    lines.push(Line::styled(" Esc or ? closes this help · every key works over SSH, no mouse needed", theme.dim()));
     let title = if mode == Mode::Edit { " keys while editing (m: explore) " } else { " keys (m: edit) " };
     frame.render_widget(Clear, rect);
-    frame.render_widget(Paragraph::new(lines).block(Block::bordered().title(Span::styled(title, theme.title()))), rect);
+    // How to close it sits in the bottom border: every row of the box is a key's.
+    let block = Block::bordered()
+        .title(Span::styled(title, theme.title()))
+        .title_bottom(Span::styled(" Esc or ? closes this help · every key works over SSH ", theme.dim()));
+    frame.render_widget(Paragraph::new(lines).block(block), rect);
 }

@@ -416,7 +416,7 @@ proptest! {
     /// Nothing a user types crashes the UI, drawing included.
     #[test]
     fn no_key_sequence_panics(keys in proptest::collection::vec(prop::sample::select(
-        "→←↑↓⇒LH][{} nNpgabc12iI°\u{238b}tjJvrReExq+-0d?@.,59⏎mmmmu/=X<>kKU⇥⇤⌫⌦".chars().collect::<Vec<_>>()), 1..60), scene in prop::sample::select(vec!["jansen", "peaucellier", "stephenson", "fourbar-crank-rocker"])) {
+        "→←↑↓⇒LH][{} nNpgabc12iI°B\u{238b}tjJvrReExq+-0d?@.,59⏎mmmmu/=X<>kKU⇥⇤⌫⌦".chars().collect::<Vec<_>>()), 1..60), scene in prop::sample::select(vec!["jansen", "peaucellier", "stephenson", "fourbar-crank-rocker"])) {
         let mut a = app(scene);
         let mut t = Terminal::new(TestBackend::new(80, 24)).unwrap();
         for c in keys {
@@ -791,5 +791,30 @@ fn help_at_80x24_shows_every_description_whole() {
         for b in bindings(mode) {
             assert!(s.contains(b.help), "{mode:?}: \"{}\" is cut in the help:\n{s}", b.help);
         }
+        assert!(s.contains("Esc or ? closes this help"), "{mode:?}: how to close the help is cut:\n{s}");
     }
+}
+
+/// `B` cycles through every valid base non-edge (CayMos let users choose the
+/// base): the component count stays (it is the realization space's), the
+/// walk starts at the drawn realization, and the cycle comes back.
+#[test]
+fn next_base_cycles_through_the_valid_bases() {
+    let mut a = app("jansen");
+    let first = a.model().unwrap().solved().dec.base;
+    let n_bases = 1 + a.model().unwrap().solved().dec.other_bases(&a.model().unwrap().analysis().linkage).len();
+    let components = a.model().unwrap().n_components();
+    let mut seen = vec![first];
+    for _ in 1..n_bases {
+        press(&mut a, "B");
+        let m = a.model().expect("explorable on every valid base");
+        let base = m.solved().dec.base;
+        assert!(!seen.contains(&base) && !seen.contains(&[base[1], base[0]]), "{base:?} again: {seen:?}");
+        seen.push(base);
+        assert_eq!(m.n_components(), components, "base {base:?}");
+        assert!(a.message.as_deref().unwrap_or("").starts_with("base "), "{:?}", a.message);
+    }
+    press(&mut a, "B");
+    let back = a.model().unwrap().solved().dec.base;
+    assert!(back == first || back == [first[1], first[0]], "{back:?} after a full cycle from {first:?}");
 }
