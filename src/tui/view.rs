@@ -802,7 +802,7 @@ fn draw_help(frame: &mut Frame, mode: Mode, area: Rect, theme: Theme) {
         let pad = col_w.saturating_sub(key_w + 1 + help.chars().count());
         vec![Span::styled(format!(" {:<key_w$}", b.label()), theme.key()), Span::raw(help), Span::raw(" ".repeat(pad))]
     };
-    let mut lines: Vec<Line> = (0..per_column)
+    let lines: Vec<Line> = (0..per_column)
         .map(|r| {
             let mut spans = Vec::new();
             for c in 0..columns {

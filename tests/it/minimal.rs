@@ -132,3 +132,21 @@ proptest! {
         check(&s, &format!("seed {seed}, {steps} steps"));
     }
 }
+
+/// Scaling the scene changes nothing: the enclosures are made in units of the
+/// scene's scale (at 1e±150 their products of lengths would overflow or
+/// underflow, and only the whole vector could be claimed).
+#[test]
+fn the_minimal_vector_does_not_depend_on_the_scale() {
+    let scene = caymos::bundled::load("watt").unwrap();
+    let want = solve(scene.clone()).1.minimal_vector(MinimalOptions::default());
+    assert_eq!(want.minimality, Minimality::Proven);
+    for f in [1e150, 1e-150, 1e-300] {
+        let mut scaled = scene.clone();
+        for j in &mut scaled.joints {
+            j.pos = j.pos.map(|x| x * f);
+        }
+        let got = solve(scaled).1.minimal_vector(MinimalOptions::default());
+        assert_eq!((got.entries, got.minimality), (want.entries.clone(), want.minimality), "scale {f:e}");
+    }
+}

@@ -103,6 +103,12 @@ pub fn minimal_vector(
     mirrors: Mirrors,
     options: MinimalOptions,
 ) -> MinimalVector {
+    // Enclosures multiply lengths (squares, products of slacks), which at
+    // 1e±150 overflow or underflow: they are made in units of the scene's
+    // scale, a power of two, so every number scales exactly and the proofs
+    // are the same at every scale.
+    let unit = 2f64.powi((-con.scale.log2().round()).clamp(-1000.0, 1000.0) as i32);
+    let (con, space) = (&con.scaled(unit), &scaled_space(space, unit));
     let whole: Vec<usize> = (0..ccv.len()).collect();
     let max_cells = options.max_step_cells / con.steps.len().max(1);
     let mut budget = Budget { cells: 0, pairs: 0, max_cells, max_pairs: options.max_pairs };
@@ -181,6 +187,16 @@ pub fn minimal_vector(
 /// n choose k (saturating).
 fn binomial(n: usize, k: usize) -> usize {
     (0..k).fold(1usize, |acc, i| acc.saturating_mul(n - i) / (i + 1))
+}
+
+/// The space with every λ multiplied by `f`.
+fn scaled_space(space: &CayleySpace<f64>, f: f64) -> CayleySpace<f64> {
+    let mut space = space.clone();
+    for iv in &mut space.intervals {
+        iv.lower.lambda *= f;
+        iv.upper.lambda *= f;
+    }
+    space
 }
 
 struct Budget {

@@ -379,6 +379,24 @@ impl<T: Real> Construction<T> {
     }
 }
 
+impl Construction<f64> {
+    /// The same construction with every length multiplied by `f` (bar
+    /// lengths, cluster shapes, the scale; members are in units of their
+    /// frame and stay). With `f` a power of two every number scales exactly.
+    pub fn scaled(&self, f: f64) -> Construction<f64> {
+        let mut c = self.clone();
+        c.scale *= f;
+        for s in &mut c.steps {
+            s.r1 *= f;
+            s.r2 *= f;
+        }
+        for p in c.shapes.iter_mut().flatten() {
+            p.1 = [p.1[0] * f, p.1[1] * f];
+        }
+        c
+    }
+}
+
 /// Local coordinates of every cluster, computed up the merge tree from bar
 /// lengths and body shapes; each triangle of clusters takes its orientation
 /// from the drawing.
