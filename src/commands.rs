@@ -18,7 +18,9 @@ use crate::numfmt::fmt_num;
 use crate::present::{self, ComponentNo, Names};
 use crate::realize::{Point2, Realization};
 use crate::scene::Scene;
-use crate::sweep::{self, Change, ClassKind, InputBar, MAX_STEPS, Parameter, Setup, SweepSample, Transition, Turn};
+use crate::sweep::{
+    self, Change, ClassKind, InputBar, MAX_STEPS, NotInput, Parameter, Setup, SweepSample, Transition, Turn,
+};
 use crate::tolerance;
 
 /// How finely and how far a command walks: the geometric step (largest joint
@@ -746,21 +748,16 @@ fn find_bar(scene: &Scene, text: &str, flag: &str) -> Result<usize, String> {
 /// ground joint (the pivot), its angle measured from the line to the first
 /// other ground joint.
 pub fn input_bar(scene: &Scene, text: &str, flag: &str) -> Result<InputBar, String> {
-    let bar = scene.bars[find_bar(scene, text, flag)?].joints;
-    let ground = |j: usize| scene.ground.contains(&j);
-    let (pivot, tip) = match (ground(bar[0]), ground(bar[1])) {
-        (true, false) => (bar[0], bar[1]),
-        (false, true) => (bar[1], bar[0]),
-        (true, true) => return Err(format!("{flag} {text}: both joints are ground joints: it is the ground link")),
-        (false, false) => {
+    InputBar::of_bar(scene, find_bar(scene, text, flag)?).map_err(|why| match why {
+        NotInput::GroundLink => format!("{flag} {text}: both joints are ground joints: it is the ground link"),
+        NotInput::NoGroundJoint => {
             let names: Vec<&str> = scene.ground.iter().map(|&g| scene.joints[g].name.as_str()).collect();
-            return Err(format!("{flag} {text}: neither joint is a ground joint (ground: {})", names.join(", ")));
+            format!("{flag} {text}: neither joint is a ground joint (ground: {})", names.join(", "))
         }
-    };
-    let reference = scene.ground.iter().copied().find(|&g| g != pivot).ok_or_else(|| {
-        format!("{flag} {text}: the scene has one ground joint, so no ground line to measure the angle from")
-    })?;
-    Ok(InputBar { pivot, tip, reference })
+        NotInput::NoGroundLine => {
+            format!("{flag} {text}: the scene has one ground joint, so no ground line to measure the angle from")
+        }
+    })
 }
 
 /// The range and sample count, checked: finite, from < to, 2 ≤ steps ≤ [`MAX_STEPS`],

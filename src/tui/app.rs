@@ -15,7 +15,7 @@ use crate::numfmt::fmt_sig;
 use crate::realize::{Point2, Realization, RealizationType};
 use crate::report::fmt_num;
 use crate::scene::Scene;
-use crate::sweep::InputBar;
+use crate::sweep::{InputBar, wrap_angle};
 use crate::tolerance;
 
 use super::document::Document;
@@ -90,31 +90,9 @@ pub struct Drive {
     pub step: f64,
 }
 
-/// The bars that can drive, in file order: one ground joint (the pivot) and
-/// another ground joint to measure the angle from (the first, as `--angle`).
+/// The bars that can drive, in file order ([`InputBar::of_bar`], as `--angle`).
 pub fn input_bars(scene: &Scene) -> Vec<InputBar> {
-    let ground = |j: usize| scene.ground.contains(&j);
-    scene
-        .bars
-        .iter()
-        .filter_map(|b| {
-            let [p, q] = b.joints;
-            let (pivot, tip) = match (ground(p), ground(q)) {
-                (true, false) => (p, q),
-                (false, true) => (q, p),
-                _ => return None,
-            };
-            let reference = scene.ground.iter().copied().find(|&r| r != pivot)?;
-            Some(InputBar { pivot, tip, reference })
-        })
-        .collect()
-}
-
-/// An angle difference brought into (−π, π].
-fn wrap(d: f64) -> f64 {
-    use std::f64::consts::{PI, TAU};
-    let d = d.rem_euclid(TAU);
-    if d > PI { d - TAU } else { d }
+    (0..scene.bars.len()).filter_map(|b| InputBar::of_bar(scene, b).ok()).collect()
 }
 
 /// Whether the turn from `a` to `b` reaches `t` (past `a`, up to and including `b`).
@@ -1196,7 +1174,7 @@ impl Model {
             .filter(|x| x.is_finite())
             .ok_or_else(|| format!("\"{text}°\": type an angle in degrees like 90°"))?
             .to_radians();
-        let rel = wrap(target - bar.angle(&self.cursor.positions));
+        let rel = wrap_angle(target - bar.angle(&self.cursor.positions));
         if rel == 0.0 {
             return Ok(());
         }
@@ -1279,10 +1257,10 @@ impl Model {
         for sm in walk.by_ref() {
             let raw = bar.angle(&sm.positions);
             let Some((pseg, plambda, ppos, praw, pu)) = prev.take() else {
-                prev = Some((sm.segment, sm.lambda, sm.positions, raw, wrap(raw - here)));
+                prev = Some((sm.segment, sm.lambda, sm.positions, raw, wrap_angle(raw - here)));
                 continue;
             };
-            let u = pu + wrap(raw - praw);
+            let u = pu + wrap_angle(raw - praw);
             if let Some(t) = target(pu, u) {
                 let seg = &segs[sm.segment];
                 let hit = |lambda: f64, positions: Vec<Point2<f64>>, jump: bool| AngleHit {
@@ -1304,7 +1282,7 @@ impl Model {
                         None => (seg.from, ppos),
                     }
                 };
-                let f = |q: &[Point2<f64>]| pu + wrap(bar.angle(q) - praw) - t;
+                let f = |q: &[Point2<f64>]| pu + wrap_angle(bar.angle(q) - praw) - t;
                 let (lambda, positions) = bisect((l0, f(&pos0), pos0), (sm.lambda, u - t, sm.positions), |l| {
                     realization_at(&s.construction, &a.linkage, seg, l).map(|q| (f(&q), q))
                 });

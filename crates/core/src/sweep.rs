@@ -86,14 +86,41 @@ pub struct InputBar {
     pub reference: usize,
 }
 
+/// Why a bar cannot drive as an input ([`InputBar::of_bar`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum NotInput {
+    /// Both its joints are ground joints: it is the ground link.
+    GroundLink,
+    /// Neither joint is a ground joint.
+    NoGroundJoint,
+    /// The scene has one ground joint: no ground line to measure from.
+    NoGroundLine,
+}
+
 impl InputBar {
+    /// Bar number `bar` (an index into `scene.bars`) as an input: its one
+    /// ground joint is the pivot, and the angle is measured from the line to
+    /// the first other ground joint.
+    pub fn of_bar(scene: &Scene, bar: usize) -> Result<InputBar, NotInput> {
+        let [p, q] = scene.bars[bar].joints;
+        let ground = |j: usize| scene.ground.contains(&j);
+        let (pivot, tip) = match (ground(p), ground(q)) {
+            (true, false) => (p, q),
+            (false, true) => (q, p),
+            (true, true) => return Err(NotInput::GroundLink),
+            (false, false) => return Err(NotInput::NoGroundJoint),
+        };
+        let reference = scene.ground.iter().copied().find(|&g| g != pivot).ok_or(NotInput::NoGroundLine)?;
+        Ok(InputBar { pivot, tip, reference })
+    }
+
     /// The bar's angle from the ground line in radians, in (−π, π],
     /// counter-clockwise with y up: the direction pivot → tip less the
     /// direction pivot → reference (two `atan2`, no product of lengths, so
     /// any scale). The same in every frame a realization is drawn in.
     pub fn angle(&self, pos: &[crate::realize::Point2<f64>]) -> f64 {
         let direction = |j: usize| (pos[j][1] - pos[self.pivot][1]).atan2(pos[j][0] - pos[self.pivot][0]);
-        wrap(direction(self.tip) - direction(self.reference))
+        wrap_angle(direction(self.tip) - direction(self.reference))
     }
 }
 
@@ -451,7 +478,7 @@ fn turn(linkage: &Linkage, s: &Solved, c: &crate::motion::Component, bar: InputB
         }
         let a = bar.angle(&sample.positions);
         if let Some(prev) = last {
-            total += wrap(a - prev);
+            total += wrap_angle(a - prev);
         }
         first.get_or_insert(a);
         last = Some(a);
@@ -461,14 +488,14 @@ fn turn(linkage: &Linkage, s: &Solved, c: &crate::motion::Component, bar: InputB
     }
     // Back at the start: close the loop (the last sample is the first realization).
     if let (Some(f), Some(l)) = (first, last) {
-        total += wrap(f - l);
+        total += wrap_angle(f - l);
     }
     let winding = (total / std::f64::consts::TAU).round();
     if winding != 0.0 { Turn::Full } else { Turn::Rocks }
 }
 
 /// An angle difference brought into (−π, π].
-fn wrap(d: f64) -> f64 {
+pub fn wrap_angle(d: f64) -> f64 {
     use std::f64::consts::{PI, TAU};
     let d = d.rem_euclid(TAU);
     if d > PI { d - TAU } else { d }
@@ -629,9 +656,9 @@ mod tests {
     #[test]
     fn wrap_brings_differences_into_a_half_turn() {
         use std::f64::consts::PI;
-        assert_eq!(wrap(0.25), 0.25);
-        assert!((wrap(2.0 * PI - 0.25) + 0.25).abs() < 1e-15);
-        assert!((wrap(-2.0 * PI + 0.25) - 0.25).abs() < 1e-15);
+        assert_eq!(wrap_angle(0.25), 0.25);
+        assert!((wrap_angle(2.0 * PI - 0.25) + 0.25).abs() < 1e-15);
+        assert!((wrap_angle(-2.0 * PI + 0.25) - 0.25).abs() < 1e-15);
     }
 
     #[test]
