@@ -242,11 +242,7 @@ fn number(text: &str) -> Result<Value, String> {
 
 /// `NAME.toml` in `dir`, or `NAME-2.toml`, … : a file that does not exist yet.
 fn new_file(dir: &Path, name: &str) -> PathBuf {
-    let stem: String = name
-        .chars()
-        .map(|c| if c.is_ascii_alphanumeric() || c == '-' || c == '_' { c.to_ascii_lowercase() } else { '-' })
-        .collect();
-    let stem = if stem.trim_matches('-').is_empty() { "scene".to_string() } else { stem };
+    let stem = super::export::file_safe(name);
     (1..)
         .map(|k| dir.join(if k == 1 { format!("{stem}.toml") } else { format!("{stem}-{k}.toml") }))
         .find(|p| !p.exists())

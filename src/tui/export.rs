@@ -22,15 +22,21 @@ pub struct Exported {
     pub notes: Vec<String>,
 }
 
+/// `name` as a file-name stem: ASCII letters, digits, `-` and `_` kept
+/// (lower-cased), anything else `-`; `scene` when nothing is left.
+pub fn file_safe(name: &str) -> String {
+    let stem: String = name
+        .chars()
+        .map(|c| if c.is_ascii_alphanumeric() || c == '-' || c == '_' { c.to_ascii_lowercase() } else { '-' })
+        .collect();
+    if stem.trim_matches('-').is_empty() { "scene".to_string() } else { stem }
+}
+
 /// A file in `dir` that does not exist yet: `STEM-SUFFIX.EXT`, then `STEM-SUFFIX-1.EXT`, …
 /// (`STEM.EXT`, `STEM-1.EXT`, … for an empty suffix); the stem made file-safe.
 /// Created empty here (`create_new`), so two exports never write one file.
 pub fn fresh_file(dir: &Path, stem: &str, suffix: &str, ext: &str) -> Result<(PathBuf, std::fs::File), String> {
-    let stem: String = stem
-        .chars()
-        .map(|c| if c.is_ascii_alphanumeric() || c == '-' || c == '_' { c.to_ascii_lowercase() } else { '-' })
-        .collect();
-    let stem = if stem.trim_matches('-').is_empty() { "scene".to_string() } else { stem };
+    let stem = file_safe(stem);
     let base = if suffix.is_empty() { stem } else { format!("{stem}-{suffix}") };
     for k in 0..10_000 {
         let path = dir.join(if k == 0 { format!("{base}.{ext}") } else { format!("{base}-{k}.{ext}") });
