@@ -1009,8 +1009,8 @@ impl SweepReport {
         let _ = writeln!(
             o,
             "Sweep of {what} from {} to {}: {} samples{shard}",
-            present::sig(self.from),
-            present::sig(self.to),
+            present::full(self.from),
+            present::full(self.to),
             self.steps
         );
         if let Some(bar) = &self.input_bar {
