@@ -1068,40 +1068,11 @@ impl SweepReport {
             let _ = writeln!(o, "  sample {first}{more}: {text}");
         }
         o.push('\n');
-        o.push_str(&self.chart());
-        if self.transitions.is_empty() {
-            let _ = writeln!(
-                o,
-                "\nNo transition: the structure is the same at every sample (a change that comes and goes between two samples is not seen; --steps raises the resolution)."
-            );
-        } else {
-            let _ = writeln!(o, "\nTransitions ({}), each to adjacent floats:", self.transitions.len());
+        for line in self.chart(SWEEP_TEXT_WIDTH, None) {
+            let _ = writeln!(o, "{line}");
         }
-        for (k, t) in self.transitions.iter().enumerate() {
-            let _ = writeln!(
-                o,
-                "  {}. {} = {}: {}",
-                k + 1,
-                self.parameter,
-                present::sig(t.value),
-                present::sweep_changes(&t.changes)
-            );
-            let _ = writeln!(
-                o,
-                "     bracket [{}, {}] (between samples {} and {}){}{}",
-                present::sig(t.before),
-                present::sig(t.after),
-                t.gap,
-                t.gap + 1,
-                if t.resolved { "" } else { ", not resolved to adjacent floats" },
-                if t.estimated { ", rests on estimated decisions" } else { "" }
-            );
-            for p in &t.between {
-                let label =
-                    if p.changes.is_empty() { "the structure before, again".to_string() } else { p.label.clone() };
-                let estimated = if p.estimated { " (on estimated decisions)" } else { "" };
-                let _ = writeln!(o, "     at {} only: {label}{estimated}", present::sig(p.value));
-            }
+        for line in self.transition_lines() {
+            let _ = writeln!(o, "{line}");
         }
         let mut wrapped = String::new();
         for line in o.lines() {
@@ -1110,15 +1081,55 @@ impl SweepReport {
         wrapped
     }
 
-    /// Components over the parameter: one column per stretch of the range
-    /// (the nearest sample's count), transitions marked `^` below.
-    fn chart(&self) -> String {
-        let mut o = String::new();
+    /// The transitions in words: a heading, then each with its bracket and
+    /// the structures met on single floats inside it (unwrapped lines).
+    pub fn transition_lines(&self) -> Vec<String> {
+        let mut o = vec![String::new()];
+        if self.transitions.is_empty() {
+            o.push(
+                "No transition: the structure is the same at every sample (a change that comes and goes between two samples is not seen; --steps raises the resolution)."
+                    .to_string(),
+            );
+        } else {
+            o.push(format!("Transitions ({}), each to adjacent floats:", self.transitions.len()));
+        }
+        for (k, t) in self.transitions.iter().enumerate() {
+            o.push(format!(
+                "  {}. {} = {}: {}",
+                k + 1,
+                self.parameter,
+                present::sig(t.value),
+                present::sweep_changes(&t.changes)
+            ));
+            o.push(format!(
+                "     bracket [{}, {}] (between samples {} and {}){}{}",
+                present::sig(t.before),
+                present::sig(t.after),
+                t.gap,
+                t.gap + 1,
+                if t.resolved { "" } else { ", not resolved to adjacent floats" },
+                if t.estimated { ", rests on estimated decisions" } else { "" }
+            ));
+            for p in &t.between {
+                let label =
+                    if p.changes.is_empty() { "the structure before, again".to_string() } else { p.label.clone() };
+                let estimated = if p.estimated { " (on estimated decisions)" } else { "" };
+                o.push(format!("     at {} only: {label}{estimated}", present::sig(p.value)));
+            }
+        }
+        o
+    }
+
+    /// Components over the parameter in `width` columns: one column per
+    /// stretch of the range (the nearest sample's count), transitions marked
+    /// by number below, and `now` (the parameter's current value) marked `▲`.
+    pub fn chart(&self, width: usize, now: Option<f64>) -> Vec<String> {
+        let mut o = Vec::new();
         let Some(max) = self.samples.iter().map(|s| s.components.len()).max() else {
             return o;
         };
         let margin = 6;
-        let cols = (SWEEP_TEXT_WIDTH - margin - 1).min(self.samples.len().max(2) * 8).max(2);
+        let cols = (width.saturating_sub(margin + 1)).min(self.samples.len().max(2) * 8).max(2);
         let (lo, hi) = (self.from, self.to);
         let col_of =
             |v: f64| (((v - lo) / (hi - lo)) * (cols - 1) as f64).round().clamp(0.0, (cols - 1) as f64) as usize;
@@ -1129,7 +1140,7 @@ impl SweepReport {
                 nearest.map(|s| (s.components.len(), s.class))
             })
             .collect();
-        let _ = writeln!(o, "Components over {} (█: that many components; x: no Cayley space):", self.parameter);
+        o.push(format!("Components over {} (█: that many components; x: no Cayley space):", self.parameter));
         for row in (1..=max.max(1)).rev() {
             let line: String = counts
                 .iter()
@@ -1138,7 +1149,7 @@ impl SweepReport {
                     _ => ' ',
                 })
                 .collect();
-            let _ = writeln!(o, "{row:>5} |{}", line.trim_end());
+            o.push(format!("{row:>5} |{}", line.trim_end()));
         }
         let bottom: String = counts
             .iter()
@@ -1147,7 +1158,7 @@ impl SweepReport {
                 Some(_) => 'x',
             })
             .collect();
-        let _ = writeln!(o, "{:>5} +{bottom}", 0);
+        o.push(format!("{:>5} +{bottom}", 0));
         let mut marks = vec![' '; cols];
         for (k, t) in self.transitions.iter().enumerate() {
             let c = col_of(t.value);
@@ -1155,13 +1166,28 @@ impl SweepReport {
         }
         if !self.transitions.is_empty() {
             let line: String = marks.iter().collect();
-            let _ = writeln!(o, "{:>5}  {}", "", line.trim_end());
+            o.push(format!("{:>5}  {}", "", line.trim_end()));
         }
         let (a, b) = (fmt_num(lo), fmt_num(hi));
         let pad = (cols + 1).saturating_sub(a.len() + b.len());
-        let _ = writeln!(o, "{:>5}  {a}{}{b}", "", " ".repeat(pad.saturating_sub(1)));
+        o.push(format!("{:>5}  {a}{}{b}", "", " ".repeat(pad.saturating_sub(1))));
+        if let Some(v) = now {
+            let here = format!("now {} = {}", self.parameter, present::sig(v));
+            if (lo..=hi).contains(&v) {
+                // The marker under its column, the words beside it on whichever side has room.
+                let c = col_of(v);
+                let line = if c + 2 + here.chars().count() <= cols {
+                    format!("{}▲ {here}", " ".repeat(c))
+                } else {
+                    format!("{}{here} ▲", " ".repeat((c + 1).saturating_sub(here.chars().count() + 2)))
+                };
+                o.push(format!("{:>5}  {line}", ""));
+            } else {
+                o.push(format!("{:>5}  {here}: outside the range swept", ""));
+            }
+        }
         if !self.transitions.is_empty() {
-            let _ = writeln!(o, "       (digits: the transitions listed below, by number)");
+            o.push("       (digits: the transitions listed below, by number)".to_string());
         }
         o
     }

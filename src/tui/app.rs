@@ -9,18 +9,19 @@ use nalgebra::{Rotation3, Vector3};
 
 use crate::analysis::{Analysis, Solved, analyse, nearest_attainable};
 use crate::cayley_vector::cayley_vector;
-use crate::commands::{self, PathReport, Walk};
+use crate::commands::{self, PathReport, SweepReport, Walk};
 use crate::motion::{Segment, Stepper, arcs, component_segments, locate, realization_at};
 use crate::numfmt::fmt_sig;
 use crate::realize::{Point2, Realization, RealizationType};
 use crate::report::fmt_num;
 use crate::scene::Scene;
-use crate::sweep::{InputBar, wrap_angle};
+use crate::sweep::{InputBar, Setup, wrap_angle};
 use crate::tolerance;
 
 use super::document::Document;
 use super::edit::Editor;
 use super::keymap::{Action, Mode};
+use super::sweep::{SweepView, Swept};
 
 /// What the main area shows.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -263,6 +264,8 @@ pub enum PromptKind {
     Select,
     /// `=`: the selected joint's `x, y` or bar's length.
     Value,
+    /// `s`: the range to sweep.
+    Sweep(Swept),
 }
 
 /// A line of input being typed.
@@ -272,28 +275,57 @@ pub struct Prompt {
     pub text: String,
 }
 
-/// An analysis to run (on the solver thread, or inline in tests): the
-/// latest asked for wins, older results are dropped.
+/// Work for the solver thread (or run inline in tests): an analysis or a
+/// sweep. Of each kind the latest asked for wins; older results are dropped.
 pub struct Job {
     id: u64,
-    scene: Scene,
-    base: Option<[usize; 2]>,
+    work: Work,
+}
+
+enum Work {
+    Analyse { scene: Scene, base: Option<[usize; 2]> },
+    Sweep { setup: Box<Setup>, from: f64, to: f64, steps: usize },
 }
 
 /// A finished [`Job`].
 pub struct Done {
     id: u64,
-    result: Result<Analysis, String>,
-    /// The minimal complete Cayley vector's entries (the curve's default axes), made here off the UI thread.
-    minimal: Option<Vec<usize>>,
+    result: Finished,
+}
+
+enum Finished {
+    Analysis {
+        result: Result<Box<Analysis>, String>,
+        /// The minimal complete Cayley vector's entries (the curve's default axes), made here off the UI thread.
+        minimal: Option<Vec<usize>>,
+    },
+    Sweep(Box<SweepReport>),
 }
 
 impl Job {
-    /// Analyse (errors in words).
+    /// A sweep of `setup` (see [`super::sweep`]).
+    pub fn sweep(id: u64, setup: Setup, from: f64, to: f64, steps: usize) -> Job {
+        Job { id, work: Work::Sweep { setup: Box::new(setup), from, to, steps } }
+    }
+
+    /// Whether it is a sweep (the solver keeps the latest of each kind).
+    pub fn is_sweep(&self) -> bool {
+        matches!(self.work, Work::Sweep { .. })
+    }
+
+    /// Analyse (errors in words), or sweep.
     pub fn run(self) -> Done {
-        let result = analyse(self.scene, self.base).map_err(|e| e.to_string());
-        let minimal = result.as_ref().ok().and_then(|a| a.outcome.as_ref().ok()).map(minimal_entries);
-        Done { id: self.id, result, minimal }
+        let result = match self.work {
+            Work::Analyse { scene, base } => {
+                let result = analyse(scene, base).map(Box::new).map_err(|e| e.to_string());
+                let minimal = result.as_ref().ok().and_then(|a| a.outcome.as_ref().ok()).map(minimal_entries);
+                Finished::Analysis { result, minimal }
+            }
+            Work::Sweep { setup, from, to, steps } => {
+                Finished::Sweep(Box::new(super::sweep::run(&setup, from, to, steps)))
+            }
+        };
+        Done { id: self.id, result }
     }
 }
 
@@ -323,7 +355,11 @@ pub struct App {
     pub file_error: Option<String>,
     /// Where a scene with no file is saved (the current directory).
     pub save_dir: PathBuf,
-    base: Option<[usize; 2]>,
+    pub(super) base: Option<[usize; 2]>,
+    /// The sweep shown in place of the drawing (`s`), if one was asked for.
+    pub sweep: Option<SweepView>,
+    /// The sweep asked for and not yet handed out.
+    pub(super) sweep_job: Option<Job>,
     /// The analysis asked for and not yet handed out, and the ids asked and installed.
     job: Option<Job>,
     asked: u64,
@@ -356,6 +392,8 @@ impl App {
             file_error: None,
             save_dir: PathBuf::from("."),
             base,
+            sweep: None,
+            sweep_job: None,
             job: None,
             asked: 0,
             installed: 0,
@@ -374,24 +412,30 @@ impl App {
     /// Ask for an analysis of the document's scene.
     pub(super) fn reanalyse(&mut self) {
         self.asked += 1;
-        self.job = Some(Job { id: self.asked, scene: self.doc.scene.clone(), base: self.base });
+        let work = Work::Analyse { scene: self.doc.scene.clone(), base: self.base };
+        self.job = Some(Job { id: self.asked, work });
+        self.resweep();
     }
 
-    /// The analysis to run next, if one was asked for since the last call.
+    /// The work to run next (the analysis first, then the sweep), if any was asked for since the last call.
     pub fn take_job(&mut self) -> Option<Job> {
-        self.job.take()
+        self.job.take().or_else(|| self.sweep_job.take())
     }
 
-    /// Whether an analysis asked for has not arrived yet.
+    /// Whether an analysis or sweep asked for has not arrived yet.
     pub fn busy(&self) -> bool {
-        self.installed != self.asked
+        self.installed != self.asked || self.sweeping()
     }
 
-    /// Take a finished analysis, unless a newer one was asked for since.
+    /// Take a finished analysis or sweep, unless a newer one was asked for since.
     pub fn finish(&mut self, done: Done) {
-        if done.id == self.asked {
-            self.installed = done.id;
-            self.install(done.result, done.minimal);
+        match done.result {
+            Finished::Analysis { result, minimal } if done.id == self.asked => {
+                self.installed = done.id;
+                self.install(result.map(|a| *a), minimal);
+            }
+            Finished::Analysis { .. } => {}
+            Finished::Sweep(report) => self.install_sweep(done.id, *report),
         }
     }
 
@@ -451,7 +495,7 @@ impl App {
             self.help = false;
             return;
         }
-        if self.edit_update(action) {
+        if self.edit_update(action) || self.sweep_update(action) {
             return;
         }
         let Screen::Ready(m) = &mut self.screen else { return };
@@ -546,6 +590,7 @@ impl App {
                     Err(e) => Some(e),
                 }
             }
+            PromptKind::Sweep(swept) => self.message = self.submit_sweep(swept, text).err(),
         }
     }
 
@@ -1007,7 +1052,9 @@ impl Model {
             | Action::DeleteBar
             | Action::ExitEdit
             | Action::Export
-            | Action::NextBase => {}
+            | Action::NextBase
+            | Action::Sweep
+            | Action::ToggleSweep => {}
         }
         Ok(None)
     }

@@ -63,11 +63,13 @@ pub enum Action {
     ScrollDown,
     ScrollUp,
     NextBase,
+    Sweep,
+    ToggleSweep,
 }
 
 impl Action {
     /// Every action, in declaration order (the keymap test checks each has a key).
-    pub const ALL: [Action; 57] = [
+    pub const ALL: [Action; 59] = [
         Action::StepForward,
         Action::StepBack,
         Action::LargeForward,
@@ -125,6 +127,8 @@ impl Action {
         Action::ScrollDown,
         Action::ScrollUp,
         Action::NextBase,
+        Action::Sweep,
+        Action::ToggleSweep,
     ];
 }
 
@@ -307,8 +311,10 @@ pub const BINDINGS: &[Binding] = &[
     edit(&[Char('='), Code(KeyCode::Enter)], Action::SetValue, "type x, y or a length", "set"),
     edit(&[Code(KeyCode::Delete), Char('X')], Action::DeleteBar, "delete the bar", ""),
     edit(&[Code(KeyCode::Esc)], Action::ExitEdit, "explore again; close help", ""),
-    bind(&[Char('}')], Action::ScrollDown, "scroll the side lists down", ""),
-    bind(&[Char('{')], Action::ScrollUp, "scroll the side lists up", ""),
+    both(&[Char('s')], Action::Sweep, "sweep selected bar / joint", "sweep"),
+    both(&[Char('S')], Action::ToggleSweep, "show / hide the sweep", ""),
+    both(&[Char('}')], Action::ScrollDown, "scroll the lists down", ""),
+    both(&[Char('{')], Action::ScrollUp, "scroll the lists up", ""),
 ];
 
 /// The rows that work in `mode`.
@@ -424,6 +430,8 @@ mod tests {
             Action::ScrollDown => 54,
             Action::ScrollUp => 55,
             Action::NextBase => 56,
+            Action::Sweep => 57,
+            Action::ToggleSweep => 58,
         }
     }
 

@@ -1,7 +1,7 @@
 //! The terminal UI: `ratatui` over `crossterm`. Event → action → update
 //! (which also makes everything the screen shows) → draw from `&App` (which
 //! only reads); the solver runs on a background thread so input stays
-//! responsive (the first analysis and every edit's and reload's), and its
+//! responsive (the first analysis, every edit's and reload's, and sweeps), and its
 //! analysis is moved into the app, never copied. The scene's file is polled
 //! every [`WATCH`]. The terminal is restored on quit, on Ctrl-C and on a
 //! panic (the hook installed by `ratatui::init`).
@@ -11,6 +11,7 @@ pub mod document;
 pub mod edit;
 pub mod export;
 pub mod keymap;
+pub mod sweep;
 pub mod theme;
 pub mod view;
 
@@ -35,14 +36,20 @@ pub fn run(scene: Scene, base: Option<[usize; 2]>) -> std::io::Result<()> {
     let mut app = App::new(scene, base);
     let (jobs, job_rx) = mpsc::channel::<Job>();
     let (done_tx, done) = mpsc::channel::<Done>();
-    // The solver: analyses the latest job asked for, skipping older ones.
+    // The solver: runs the latest analysis and the latest sweep asked for, skipping older ones.
     std::thread::spawn(move || {
-        while let Ok(mut job) = job_rx.recv() {
+        while let Ok(job) = job_rx.recv() {
+            let mut latest: [Option<Job>; 2] = [None, None];
+            let slot = usize::from(job.is_sweep());
+            latest[slot] = Some(job);
             while let Ok(newer) = job_rx.try_recv() {
-                job = newer;
+                let slot = usize::from(newer.is_sweep());
+                latest[slot] = Some(newer);
             }
-            if done_tx.send(job.run()).is_err() {
-                break;
+            for job in latest.into_iter().flatten() {
+                if done_tx.send(job.run()).is_err() {
+                    return;
+                }
             }
         }
     });
@@ -68,7 +75,7 @@ fn event_loop(
     let mut dirty = true;
     let mut watched = Instant::now();
     while !app.quit {
-        if let Some(job) = app.take_job() {
+        while let Some(job) = app.take_job() {
             let _ = solver.jobs.send(job);
         }
         while let Ok(done) = solver.done.try_recv() {

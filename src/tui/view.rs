@@ -11,6 +11,7 @@ use ratatui::widgets::{Block, Clear, Paragraph, Wrap};
 use super::app::{App, Model, Motion, PromptKind, Screen, View, unit_frame};
 use super::edit::Item;
 use super::keymap::{Binding, Mode, bindings};
+use super::sweep::{SweepView, Swept};
 use super::theme::Theme;
 use crate::analysis::Analysis;
 use crate::present;
@@ -43,6 +44,9 @@ pub fn draw(frame: &mut Frame, app: &App, theme: Theme) {
         Layout::vertical([Constraint::Min(8), Constraint::Length(status_rows), Constraint::Length(1)]).areas(area);
     let selected = selected_joints(app);
     match &app.screen {
+        _ if app.sweep.as_ref().is_some_and(|s| s.shown) => {
+            draw_sweep(frame, app, app.sweep.as_ref().expect("shown"), body, theme)
+        }
         Screen::Loading { scene } => {
             let p =
                 Paragraph::new(format!("analysing {scene} …")).alignment(Alignment::Center).block(Block::bordered());
@@ -660,6 +664,68 @@ fn draw_edit_panel(frame: &mut Frame, app: &App, area: Rect, theme: Theme) {
     frame.render_widget(p, area);
 }
 
+/// The sweep in place of the drawing: the chart of components over the
+/// parameter (with `▲` at its value now), then the transitions, which scroll
+/// (`{` `}`) under a note saying how many more there are.
+fn draw_sweep(frame: &mut Frame, app: &App, s: &SweepView, area: Rect, theme: Theme) {
+    let scene = &app.doc.scene;
+    let what = match s.swept {
+        Swept::Bar(_) => format!("bar {} length", s.swept.name(scene)),
+        Swept::Joint { .. } => format!("joint coordinate {}", s.swept.name(scene)),
+    };
+    let state = if s.pending { " · updating …" } else { "" };
+    let title = format!(" sweep of {what} · {} samples{state} · S hides ", s.steps);
+    let mut block = Block::bordered().title(Span::styled(title, theme.title()));
+    let width = usize::from(area.width.saturating_sub(2));
+    let rows = usize::from(area.height.saturating_sub(2));
+    let (mut lines, list): (Vec<Line>, Vec<Line>) = match (&s.error, &s.report) {
+        (Some(e), _) => (vec![Line::styled(e.clone(), theme.warn())], Vec::new()),
+        (None, None) => {
+            let text = format!("sweeping from {} to {} …", present::full(s.from), present::full(s.to));
+            (vec![Line::raw(text)], Vec::new())
+        }
+        (None, Some(r)) => {
+            let chart = r.chart(width, app.swept_now());
+            // Bars fit by construction; a long heading wraps.
+            let chart = chart
+                .into_iter()
+                .flat_map(|l| if l.chars().count() > width { wrap_words(&l, width) } else { vec![l] })
+                .map(|l| if l.contains('▲') { Line::styled(l, theme.highlight()) } else { Line::raw(l) })
+                .collect();
+            let list = r
+                .transition_lines()
+                .iter()
+                .flat_map(|l| {
+                    let indent = l.len() - l.trim_start().len();
+                    let rows = wrap_words(l.trim_start(), width.saturating_sub(indent + 2).max(8));
+                    rows.into_iter()
+                        .enumerate()
+                        .map(move |(k, r)| format!("{}{r}", " ".repeat(if k == 0 { indent } else { indent + 2 })))
+                })
+                .map(Line::raw)
+                .collect();
+            (chart, list)
+        }
+    };
+    if lines.len() > rows {
+        // More components than rows: say so rather than cut silently.
+        let more = lines.len() - rows;
+        lines.truncate(rows);
+        let note = format!(" +{more} more rows of the chart: enlarge the terminal ");
+        block = block.title_bottom(Span::styled(note, theme.warn()));
+    }
+    let room = rows.saturating_sub(lines.len());
+    if list.len() <= room {
+        lines.extend(list);
+    } else {
+        let first = scrolled(0, s.scroll, room, list.len());
+        let n = list.len();
+        lines.extend(list.into_iter().skip(first).take(room));
+        block = block.title_bottom(Span::styled(format!(" {} ", more_note(first, room, n)), theme.dim()));
+    }
+    frame.render_widget(Paragraph::new(lines).block(block), area);
+}
+
 /// The most rows the status line takes.
 const STATUS_ROWS: usize = 3;
 
@@ -672,6 +738,15 @@ fn status_lines(app: &App, width: usize, theme: Theme) -> Vec<Line<'static>> {
             PromptKind::GoTo => ("go to (λ or TYPE@λ): ".to_string(), "go"),
             PromptKind::Select => ("select (joint C or bar B-C): ".to_string(), "select"),
             PromptKind::Value => (format!("{} = ", app.item_name(app.item())), "set"),
+            PromptKind::Sweep(swept) => {
+                let what = match swept {
+                    Swept::Bar(_) => format!("sweep {} length, FROM TO [STEPS]: ", swept.name(&app.doc.scene)),
+                    Swept::Joint { joint, .. } => {
+                        format!("sweep joint {}, x|y FROM TO [STEPS]: ", app.doc.scene.joints[joint].name)
+                    }
+                };
+                (what, "sweep")
+            }
         };
         return vec![Line::from(vec![
             Span::styled(label, theme.key()),
@@ -792,7 +867,8 @@ fn draw_help(frame: &mut Frame, mode: Mode, area: Rect, theme: Theme) {
     let columns: usize = if rows_needed <= area.height.saturating_sub(2) { 1 } else { 2 };
     let per_column = rows.len().div_ceil(columns);
     let w = if columns == 1 { 64 } else { 118 }.min(area.width.saturating_sub(2));
-    let h = (per_column as u16 + 2).min(area.height.saturating_sub(2));
+    // Up to the whole height: it covers the key bar, which it explains.
+    let h = (per_column as u16 + 2).min(area.height);
     let rect = Rect { x: area.x + (area.width - w) / 2, y: area.y + (area.height - h) / 2, width: w, height: h };
     let col_w = (w.saturating_sub(2) as usize) / columns;
     // Every key of a row, as the key table has them; the column fits the longest.
@@ -816,8 +892,13 @@ fn draw_help(frame: &mut Frame, mode: Mode, area: Rect, theme: Theme) {
     let title = if mode == Mode::Edit { " keys while editing (m: explore) " } else { " keys (m: edit) " };
     frame.render_widget(Clear, rect);
     // How to close it sits in the bottom border: every row of the box is a key's.
-    let block = Block::bordered()
-        .title(Span::styled(title, theme.title()))
-        .title_bottom(Span::styled(" Esc or ? closes this help · every key works over SSH ", theme.dim()));
+    let shown = usize::from(h.saturating_sub(2));
+    let closing = if per_column > shown {
+        format!(" +{} rows more: enlarge the terminal · Esc or ? closes ", per_column - shown)
+    } else {
+        " Esc or ? closes this help · every key works over SSH ".to_string()
+    };
+    let block =
+        Block::bordered().title(Span::styled(title, theme.title())).title_bottom(Span::styled(closing, theme.dim()));
     frame.render_widget(Paragraph::new(lines).block(block), rect);
 }

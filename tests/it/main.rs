@@ -17,5 +17,6 @@ mod perf;
 mod recognition;
 mod scene_parse;
 mod sweep;
+mod sweep_view;
 mod trust;
 mod tui;

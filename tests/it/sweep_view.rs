@@ -1,0 +1,120 @@
+//! Issue 13: the sweep in the TUI (`s` sweeps the selected bar or joint, `S`
+//! shows or hides it) is `caymos sweep`'s, swept again after every edit, so
+//! the transitions move as the closed form says (Grashof: s + l = p + q).
+
+use caymos::sweep::Change;
+use caymos::tui::app::App;
+use caymos::tui::theme::Theme;
+
+use crate::tui::{app, press, render};
+
+/// The transitions of the sweep on screen, with their changes.
+fn transitions(a: &App) -> Vec<(f64, Vec<Change>)> {
+    let s = a.sweep.as_ref().expect("a sweep was asked for");
+    assert!(!s.pending, "settled");
+    let r = s.report.as_ref().unwrap_or_else(|| panic!("a report; error {:?}, message {:?}", s.error, a.message));
+    r.transitions.iter().map(|t| (t.value, t.changes.clone())).collect()
+}
+
+/// Sweep the selected item over the typed range (the prompt starts filled with a default).
+fn sweep(a: &mut App, range: &str) {
+    press(a, &format!("s{}{range}⏎", "⌫".repeat(60)));
+}
+
+/// The crank-rocker with bar A–B selected for editing.
+fn crank_rocker_on_ab() -> App {
+    let mut a = app("fourbar-crank-rocker");
+    press(&mut a, "m/A-B⏎");
+    a
+}
+
+#[test]
+fn sweeping_the_crank_finds_the_grashof_transition_and_follows_an_edit() {
+    let mut a = crank_rocker_on_ab();
+    sweep(&mut a, "0.5 3 26");
+    let t = transitions(&a);
+    // BC = 4, CD = 3, DA = 3.5: AB + BC = CD + DA at AB = 2.5, from 2 components to 1.
+    assert_eq!(t.len(), 1, "{t:?}");
+    assert!((t[0].0 - 2.5).abs() <= 1e-12, "{t:?}");
+    assert!(t[0].1.contains(&Change::Components { from: 2, to: 1 }), "{t:?}");
+    assert!(a.sweep.as_ref().unwrap().shown);
+    // Lengthen BC to 4.5: the sweep is run again and the transition moves to AB = 2.
+    press(&mut a, "/B-C⏎");
+    press(&mut a, &format!("={}4.5⏎", "⌫".repeat(30)));
+    let t = transitions(&a);
+    assert_eq!(t.len(), 1, "{t:?}");
+    assert!((t[0].0 - 2.0).abs() <= 1e-12, "{t:?}");
+    // Undo: back to 2.5.
+    press(&mut a, "u");
+    assert!((transitions(&a)[0].0 - 2.5).abs() <= 1e-12);
+    // S hides and shows it; the drawing is back in between.
+    press(&mut a, "S");
+    assert!(!a.sweep.as_ref().unwrap().shown);
+    press(&mut a, "S");
+    assert!(a.sweep.as_ref().unwrap().shown);
+}
+
+#[test]
+fn the_default_range_is_all_a_bar_can_span() {
+    // (0, Σ other bars]: BC + CD + DA = 10.5 for AB, sampled from 10.5/60.
+    let mut a = crank_rocker_on_ab();
+    press(&mut a, "s");
+    assert_eq!(a.input.as_ref().unwrap().text, "0.175 10.5 60");
+    press(&mut a, "⏎");
+    let s = a.sweep.as_ref().unwrap();
+    assert_eq!((s.from, s.to, s.steps), (0.175, 10.5, 60));
+    // The Grashof equalities with BC = 4, CD = 3, DA = 3.5 (AB + BC = CD + DA,
+    // AB + DA = BC + CD, AB + CD = BC + DA), and AB = BC + CD + DA, where it stops closing.
+    let found: Vec<f64> = transitions(&a).iter().map(|t| t.0).collect();
+    assert_eq!(found.len(), 4, "{found:?}");
+    for (x, want) in found.iter().zip([2.5, 3.5, 4.5, 10.5]) {
+        assert!((x - want).abs() <= 1e-12 * want, "{found:?}");
+    }
+}
+
+#[test]
+fn a_joint_sweeps_x_or_y_and_bad_ranges_say_why() {
+    let mut a = app("fourbar-crank-rocker");
+    press(&mut a, "m/C⏎s");
+    assert!(a.input.as_ref().unwrap().text.starts_with("x "), "{:?}", a.input);
+    sweep(&mut a, "y 0 4 12");
+    let s = a.sweep.as_ref().unwrap();
+    assert_eq!(s.swept, caymos::tui::sweep::Swept::Joint { joint: 2, axis: 1 });
+    assert!(s.report.is_some());
+    for (typed, why) in [("3 1", "must be below"), ("1 two", "not a number"), ("1", "FROM TO"), ("1 2 1", "--steps")] {
+        sweep(&mut a, typed);
+        let m = a.message.clone().unwrap_or_default();
+        assert!(m.contains(why), "{typed:?}: {m:?}");
+    }
+    // The last good sweep stays.
+    assert_eq!(a.sweep.as_ref().unwrap().steps, 12);
+}
+
+#[test]
+fn exploring_without_a_bar_says_what_to_do_and_a_deleted_bar_is_said_gone() {
+    let mut a = app("fourbar-crank-rocker");
+    press(&mut a, "s");
+    assert!(a.input.is_none());
+    assert!(a.message.as_deref().unwrap_or_default().contains("edit mode"), "{:?}", a.message);
+    // With an input bar chosen (i), s sweeps it.
+    press(&mut a, "i");
+    press(&mut a, "s");
+    assert!(a.input.is_some(), "{:?}", a.message);
+    press(&mut a, "⎋");
+    // Delete the swept bar: the sweep says it is gone; undo brings it back.
+    let mut a = crank_rocker_on_ab();
+    sweep(&mut a, "0.5 3 8");
+    press(&mut a, "⌦");
+    let s = a.sweep.as_ref().unwrap();
+    assert!(s.error.as_deref().unwrap_or_default().contains("gone"), "{:?}", s.error);
+    press(&mut a, "u");
+    assert!(a.sweep.as_ref().unwrap().error.is_none());
+    assert_eq!(transitions(&a).len(), 1);
+}
+
+#[test]
+fn snapshot_sweep_80x24() {
+    let mut a = crank_rocker_on_ab();
+    sweep(&mut a, "0.5 3 26");
+    insta::assert_snapshot!("sweep_crank_rocker_80x24", render(&a, 80, 24, Theme { color: false }).backend());
+}
