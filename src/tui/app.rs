@@ -266,6 +266,8 @@ pub enum PromptKind {
     Value,
     /// `s`: the range to sweep.
     Sweep(Swept),
+    /// `A`: three Cayley-vector entries for the curve's axes.
+    Axes,
 }
 
 /// A line of input being typed.
@@ -502,6 +504,12 @@ impl App {
         self.message = None;
         match action {
             Action::GoTo => self.input = Some(Prompt { kind: PromptKind::GoTo, text: String::new() }),
+            Action::NameAxes => {
+                let l = &m.analysis().linkage;
+                let ccv = &m.solved().complexity.ccv;
+                let names: Vec<String> = m.camera.axes.iter().map(|&k| l.pair_name(ccv[k])).collect();
+                self.input = Some(Prompt { kind: PromptKind::Axes, text: names.join(" ") });
+            }
             Action::NextBase => {
                 // Every valid base in one fixed order (by joint index), so `B` cycles through them all.
                 let (l, dec) = (&m.analysis().linkage, &m.solved().dec);
@@ -591,6 +599,12 @@ impl App {
                 }
             }
             PromptKind::Sweep(swept) => self.message = self.submit_sweep(swept, text).err(),
+            PromptKind::Axes => {
+                if let Screen::Ready(m) = &mut self.screen {
+                    self.message = m.name_axes(text).err();
+                    m.sync();
+                }
+            }
         }
     }
 
@@ -1054,7 +1068,8 @@ impl Model {
             | Action::Export
             | Action::NextBase
             | Action::Sweep
-            | Action::ToggleSweep => {}
+            | Action::ToggleSweep
+            | Action::NameAxes => {}
         }
         Ok(None)
     }
@@ -1141,6 +1156,34 @@ impl Model {
             }
             None => Err(format!("λ = {lambda} is not reached by this motion")),
         }
+    }
+
+    /// The curve's axes by name: three entries of the complete Cayley vector
+    /// (`P-X O-Y O-W`; a pair as `P-X`, `P–X` or `P,X`, either order); the view turns to the curve.
+    pub fn name_axes(&mut self, text: &str) -> Result<(), String> {
+        let l = &self.analysis.linkage;
+        let ccv = &solved_of(&self.analysis).complexity.ccv;
+        let entries = || ccv.iter().map(|&p| l.pair_name(p)).collect::<Vec<_>>().join(" ");
+        let words: Vec<&str> = text.split([' ', ';']).filter(|w| !w.is_empty()).collect();
+        if words.len() != 3 || ccv.len() < 3 {
+            return Err(format!("name three entries of the complete Cayley vector: {}", entries()));
+        }
+        let mut axes = [0; 3];
+        for (axis, word) in axes.iter_mut().zip(&words) {
+            let names: Vec<&str> = word.split(['-', '–', ',']).filter(|n| !n.is_empty()).collect();
+            let joints: Option<Vec<usize>> = names.iter().map(|n| l.names.iter().position(|m| m == n)).collect();
+            let found = match joints.as_deref() {
+                Some(&[p, q]) => ccv.iter().position(|&e| e == [p, q] || e == [q, p]),
+                _ => None,
+            };
+            *axis = found.ok_or_else(|| format!("{word} is not in the complete Cayley vector: {}", entries()))?;
+        }
+        if axes[0] == axes[1] || axes[1] == axes[2] || axes[0] == axes[2] {
+            return Err(format!("name three different entries: {}", entries()));
+        }
+        self.camera.axes = axes;
+        self.view = View::CayleyCurve;
+        Ok(())
     }
 
     /// One step (`times` steps) along the motion: by degrees of the input

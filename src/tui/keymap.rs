@@ -65,11 +65,12 @@ pub enum Action {
     NextBase,
     Sweep,
     ToggleSweep,
+    NameAxes,
 }
 
 impl Action {
     /// Every action, in declaration order (the keymap test checks each has a key).
-    pub const ALL: [Action; 59] = [
+    pub const ALL: [Action; 60] = [
         Action::StepForward,
         Action::StepBack,
         Action::LargeForward,
@@ -129,6 +130,7 @@ impl Action {
         Action::NextBase,
         Action::Sweep,
         Action::ToggleSweep,
+        Action::NameAxes,
     ];
 }
 
@@ -281,6 +283,7 @@ pub const BINDINGS: &[Binding] = &[
     bind(&[Char('e')], Action::TiltUp, "tilt curve up", ""),
     bind(&[Char('E')], Action::TiltDown, "tilt curve down", ""),
     bind(&[Char('x')], Action::NextAxes, "next curve axes (CCV)", ""),
+    bind(&[Char('A')], Action::NameAxes, "curve axes by name", ""),
     bind(&[Char('B')], Action::NextBase, "next valid base non-edge", ""),
     bind(&[Char('+'), Char('=')], Action::StepBigger, "double the step", ""),
     bind(&[Char('-')], Action::StepSmaller, "halve the step", ""),
@@ -432,6 +435,7 @@ mod tests {
             Action::NextBase => 56,
             Action::Sweep => 57,
             Action::ToggleSweep => 58,
+            Action::NameAxes => 59,
         }
     }
 

@@ -747,6 +747,7 @@ fn status_lines(app: &App, width: usize, theme: Theme) -> Vec<Line<'static>> {
                 };
                 (what, "sweep")
             }
+            PromptKind::Axes => ("curve axes (three CCV entries, e.g. A-C B-D): ".to_string(), "set"),
         };
         return vec![Line::from(vec![
             Span::styled(label, theme.key()),

@@ -818,3 +818,24 @@ fn next_base_cycles_through_the_valid_bases() {
     let back = a.model().unwrap().solved().dec.base;
     assert!(back == first || back == [first[1], first[0]], "{back:?} after a full cycle from {first:?}");
 }
+
+#[test]
+fn curve_axes_are_chosen_by_name() {
+    let mut a = app("jansen");
+    let names = |a: &App| {
+        let m = a.model().unwrap();
+        let (l, ccv) = (&m.analysis().linkage, &m.solved().complexity.ccv);
+        m.camera.axes.map(|k| l.pair_name(ccv[k]))
+    };
+    // The prompt starts with the axes now; typed pairs may use - or , and either order.
+    press(&mut a, "A");
+    assert_eq!(a.input.as_ref().unwrap().text, names(&a).join(" "));
+    press(&mut a, &format!("{}K-P Y,O O–W⏎", "⌫".repeat(40)));
+    assert_eq!(names(&a), ["P–K", "O–Y", "O–W"], "{:?}", a.message);
+    assert_eq!(a.model().unwrap().view, View::CayleyCurve);
+    for (typed, why) in [("P-K O-Y", "three entries"), ("P-K O-Y O-F", "O-F is not in"), ("P-K P-K O-W", "different")] {
+        press(&mut a, &format!("A{}{typed}⏎", "⌫".repeat(40)));
+        assert!(a.message.as_deref().unwrap_or_default().contains(why), "{typed}: {:?}", a.message);
+        assert_eq!(names(&a), ["P–K", "O–Y", "O–W"], "unchanged by {typed}");
+    }
+}
