@@ -736,6 +736,62 @@ impl Model {
         }
     }
 
+    /// At a branch point (several steps flat at once: a non-generic place,
+    /// see [`crate::motion::BranchPoint`]) the oriented intervals that meet
+    /// there by the flip rule, the current one included, in index order:
+    /// every branch point recorded at this λ that shares an interval with
+    /// them, closed transitively (each walk records the ways it saw); empty
+    /// anywhere else.
+    pub fn branch_here(&self) -> Vec<usize> {
+        let c = &self.cursor;
+        let seg = &c.segments[c.seg];
+        if c.lambda != seg.from && c.lambda != seg.to {
+            return Vec::new();
+        }
+        let here: Vec<Vec<usize>> = solved_of(&self.analysis)
+            .components
+            .branch_points
+            .iter()
+            .filter(|b| b.lambda == c.lambda)
+            .map(|b| std::iter::once(b.from).chain(b.options.iter().copied()).collect())
+            .collect();
+        let mut ways = vec![seg.interval];
+        let mut used = vec![false; here.len()];
+        while let Some(k) = (0..here.len()).find(|&k| !used[k] && here[k].iter().any(|i| ways.contains(i))) {
+            used[k] = true;
+            ways.extend(&here[k]);
+        }
+        ways.sort_unstable();
+        ways.dedup();
+        if ways.len() > 1 { ways } else { Vec::new() }
+    }
+
+    /// Go on at a branch point by the next way (in interval order, round),
+    /// into the component that holds it; says which way and which key goes along it.
+    fn take_branch(&mut self) -> Result<String, String> {
+        let ways = self.branch_here();
+        if ways.len() < 2 {
+            return Err("not at a branch point: f chooses the way on where several steps are flat at once".into());
+        }
+        let here = self.cursor.segments[self.cursor.seg].interval;
+        let k = ways.iter().position(|&i| i == here).map_or(0, |p| (p + 1) % ways.len());
+        let (way, lambda) = (ways[k], self.cursor.lambda);
+        let flat: Vec<String> = self.flat_here().iter().map(|s| (s + 1).to_string()).collect();
+        let component = solved_of(&self.analysis).components.of_interval[way];
+        self.enter_component(component, Some((way, lambda)));
+        let seg = &self.cursor.segments[self.cursor.seg];
+        let along = if seg.from == lambda { "→" } else { "←" };
+        Ok(format!(
+            "branch point λ = {} (steps {} flat): way {} of {}, type {} in component {}; {along} goes along it",
+            fmt_num(lambda),
+            flat.join(", "),
+            k + 1,
+            ways.len(),
+            seg.ty,
+            component + 1
+        ))
+    }
+
     /// What to carry over to the next analysis of the scene.
     fn carry(&self) -> Carry {
         Carry {
@@ -1070,6 +1126,7 @@ impl Model {
             | Action::Sweep
             | Action::ToggleSweep
             | Action::NameAxes => {}
+            Action::TakeBranch => return self.take_branch().map(Some),
         }
         Ok(None)
     }
@@ -1099,6 +1156,10 @@ impl Model {
                 Some(format!("angle step {}°", fmt_num(self.drive.step)))
             }
             Action::StepBigger | Action::StepSmaller => Some(format!("step {}", fmt_num(self.pace.step))),
+            _ if self.branch_here().len() > 1 => Some(format!(
+                "a branch point: {} ways meet here (f takes the next; the listed components each follow one)",
+                self.branch_here().len()
+            )),
             _ => None,
         }
     }

@@ -66,11 +66,12 @@ pub enum Action {
     Sweep,
     ToggleSweep,
     NameAxes,
+    TakeBranch,
 }
 
 impl Action {
     /// Every action, in declaration order (the keymap test checks each has a key).
-    pub const ALL: [Action; 60] = [
+    pub const ALL: [Action; 61] = [
         Action::StepForward,
         Action::StepBack,
         Action::LargeForward,
@@ -131,6 +132,7 @@ impl Action {
         Action::Sweep,
         Action::ToggleSweep,
         Action::NameAxes,
+        Action::TakeBranch,
     ];
 }
 
@@ -268,6 +270,7 @@ pub const BINDINGS: &[Binding] = &[
     bind(&[Char('n'), Code(KeyCode::Tab)], Action::NextComponent, "next component", "component"),
     bind(&[Char('p'), Code(KeyCode::BackTab)], Action::PrevComponent, "previous component", ""),
     bind(&[Char('g')], Action::GoTo, "go to λ or TYPE@λ", "go to"),
+    bind(&[Char('f')], Action::TakeBranch, "branch point: next way on", ""),
     bind(&[Char('a')], Action::MarkA, "mark A here", "mark A"),
     bind(&[Char('b')], Action::MarkB, "mark B: paths or closest", "mark B"),
     bind(&[Char('c')], Action::ClearMarks, "clear marks A, B", ""),
@@ -436,6 +439,7 @@ mod tests {
             Action::Sweep => 57,
             Action::ToggleSweep => 58,
             Action::NameAxes => 59,
+            Action::TakeBranch => 60,
         }
     }
 

@@ -424,9 +424,10 @@ proptest! {
             press(&mut a, &s);
             a.tick();
             t.draw(|f| view::draw(f, &a, Theme { color: true })).unwrap();
-            // Still a whole screen: the key bar (help first) is drawn.
+            // Still a whole screen: the key bar (help first) is drawn, or the
+            // help over it, saying how to close it.
             let bar = format!("{}", t.backend());
-            prop_assert!(a.quit || bar.contains("? help"), "{bar}");
+            prop_assert!(a.quit || bar.contains("? help") || (a.help && bar.contains("? closes")), "{bar}");
         }
     }
 }
@@ -838,4 +839,48 @@ fn curve_axes_are_chosen_by_name() {
         assert!(a.message.as_deref().unwrap_or_default().contains(why), "{typed}: {:?}", a.message);
         assert_eq!(names(&a), ["P–K", "O–Y", "O–W"], "unchanged by {typed}");
     }
+}
+
+#[test]
+fn at_a_branch_point_f_takes_each_way_on() {
+    // The crank-rocker with AB = 2.5: AB + BC = CD + DA, so at λ = 6.5 both
+    // steps are stretched at once and the four types meet (THEORY.md §6).
+    let mut a = app("fourbar-crank-rocker");
+    press(&mut a, &format!("m/A-B⏎={}2.5⏎m", "⌫".repeat(30)));
+    press(&mut a, "f");
+    assert!(a.message.as_deref().unwrap_or_default().contains("not at a branch point"), "{:?}", a.message);
+    for _ in 0..4 {
+        if lambda(&a) == 6.5 {
+            break;
+        }
+        press(&mut a, "]");
+    }
+    assert_eq!(lambda(&a), 6.5);
+    assert!(a.message.as_deref().unwrap_or_default().contains("ways meet here"), "{:?}", a.message);
+    let ways = a.model().unwrap().branch_here();
+    assert!(ways.len() >= 3, "{ways:?}");
+    let start = a.model().unwrap().cursor.positions.clone();
+    let mut components = std::collections::BTreeSet::new();
+    let mut types = std::collections::BTreeSet::new();
+    for _ in 0..ways.len() {
+        press(&mut a, "f");
+        let m = a.model().unwrap();
+        let note = a.message.clone().unwrap_or_default();
+        assert!(note.contains("steps 1, 2 flat") && note.contains(&format!("of {}", ways.len())), "{note}");
+        assert_eq!(lambda(&a), 6.5);
+        assert_eq!(m.flat_here(), &[0, 1]);
+        // One realization, whichever way: both steps flat, so every sign gives it.
+        for (p, q) in m.cursor.positions.iter().zip(&start) {
+            assert!((p.x - q.x).abs() <= 1e-12 && (p.y - q.y).abs() <= 1e-12, "{p:?} vs {q:?}");
+        }
+        components.insert(m.cursor.component);
+        types.insert(ty(&a));
+    }
+    assert_eq!(types.len(), ways.len(), "every way visited once: {types:?}");
+    assert_eq!(components.len(), 2, "the ways lead into both listed components");
+    // And the motion goes on along the way taken.
+    let k = a.model().unwrap().cursor.component;
+    press(&mut a, "←");
+    assert_eq!(a.model().unwrap().cursor.component, k);
+    assert!(lambda(&a) < 6.5);
 }
