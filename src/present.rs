@@ -15,7 +15,7 @@ use crate::decompose::{Outside, Step};
 use crate::distance::{Certificate, Outcome};
 use crate::linkage::{Constraint, Linkage};
 use crate::motion::Missing;
-use crate::numfmt::{fmt_num, fmt_sig};
+use crate::numfmt::{fmt_num, fmt_sig, fmt_span};
 use crate::realize::Event;
 use crate::realize::{RealizationType, Unrealizable};
 
@@ -365,13 +365,12 @@ pub fn missing(m: &Missing) -> String {
         }
         Missing::NoInterval { ty } => format!("type {ty} has no realization at any λ"),
         Missing::Elsewhere { ty, lambda, spans } => {
-            let spans: Vec<String> = spans.iter().map(|[a, b]| format!("[{a}, {b}]")).collect();
+            let spans: Vec<String> = spans.iter().map(|&span| fmt_span(span)).collect();
             format!("type {ty} is not realizable at λ = {lambda}; it is at λ in {}", spans.join(" ∪ "))
         }
     }
 }
 
-/// The closest-pair certificate in words: "certified to …" only when it is.
 /// How far a minimal complete Cayley vector is proven smallest, in words.
 pub fn minimality(m: &crate::minimal_vector::MinimalVector) -> String {
     use crate::minimal_vector::Minimality;

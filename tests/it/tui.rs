@@ -884,3 +884,16 @@ fn at_a_branch_point_f_takes_each_way_on() {
     assert_eq!(a.model().unwrap().cursor.component, k);
     assert!(lambda(&a) < 6.5);
 }
+
+#[test]
+fn go_to_errors_give_spans_in_the_digits_that_matter() {
+    let mut a = app("jansen");
+    let t = ty(&a);
+    press(&mut a, &format!("g{t}@1⏎"));
+    let m = a.message.clone().unwrap_or_default();
+    assert!(m.contains("is not realizable at λ = 1; it is at λ in ["), "{m}");
+    // Every number in it has at most six significant digits (the ends are far apart).
+    for word in m.split(|c: char| !(c.is_ascii_digit() || c == '.')).filter(|w| w.contains('.')) {
+        assert!(word.replace('.', "").trim_start_matches('0').len() <= 6, "{word} in {m}");
+    }
+}
