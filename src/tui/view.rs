@@ -291,9 +291,19 @@ fn draw_linkage(frame: &mut Frame, m: &Model, selected: &[usize], area: Rect, th
     frame.render_widget(canvas, area);
 }
 
-/// Markers of the Cayley curve's types, in the order the types are met
-/// (they repeat past the eighth type, which the legend says).
+/// The first markers of the Cayley curve's types, in the order the types are met.
 const TYPE_MARKERS: [&str; 8] = ["●", "○", "◆", "◇", "■", "□", "▲", "△"];
+
+/// The marker of the `k`-th type met: a shape, then the letters a–z, then
+/// the type's number from 35 on, so no two types share one.
+pub fn type_marker(k: usize) -> String {
+    let shapes = TYPE_MARKERS.len();
+    match k {
+        _ if k < shapes => TYPE_MARKERS[k].to_string(),
+        _ if k < shapes + 26 => char::from(b'a' + (k - shapes) as u8).to_string(),
+        _ => (k + 1).to_string(),
+    }
+}
 
 /// Markers placed along each run of one type, at most.
 const MARKERS_PER_RUN: usize = 4;
@@ -329,7 +339,7 @@ fn draw_curve(frame: &mut Frame, m: &Model, area: Rect, theme: Theme) {
     let mut legend: Vec<String> = types
         .iter()
         .enumerate()
-        .map(|(k, t)| format!("{} {}", TYPE_MARKERS[k % TYPE_MARKERS.len()], present::type_label(t, Some(&drawn))))
+        .map(|(k, t)| format!("{} {}", type_marker(k), present::type_label(t, Some(&drawn))))
         .collect();
     legend.push("◎ here".to_string());
     text.extend(pack(&legend, "  ", width));
@@ -366,9 +376,9 @@ fn draw_curve(frame: &mut Frame, m: &Model, area: Rect, theme: Theme) {
         // Markers tell the types apart without colour.
         for (k, pts) in &curve.runs {
             let stride = pts.len().div_ceil(MARKERS_PER_RUN).max(1);
-            let marker = TYPE_MARKERS[k % TYPE_MARKERS.len()];
+            let marker = type_marker(*k);
             for p in pts.iter().skip(stride / 2).step_by(stride) {
-                ctx.print(p.0, p.1, Line::styled(marker, Style::default().fg(theme.of_type(*k))));
+                ctx.print(p.0, p.1, Line::styled(marker.clone(), Style::default().fg(theme.of_type(*k))));
             }
         }
         ctx.print(curve.here.0, curve.here.1, Line::styled("◎", theme.highlight()));

@@ -897,3 +897,13 @@ fn go_to_errors_give_spans_in_the_digits_that_matter() {
         assert!(word.replace('.', "").trim_start_matches('0').len() <= 6, "{word} in {m}");
     }
 }
+
+#[test]
+fn every_type_on_the_curve_has_its_own_marker() {
+    let markers: Vec<String> = (0..200).map(view::type_marker).collect();
+    let distinct: std::collections::HashSet<&String> = markers.iter().collect();
+    assert_eq!(distinct.len(), markers.len(), "{markers:?}");
+    assert_eq!(markers[0], "●");
+    assert_eq!(markers[8], "a");
+    assert_eq!(markers[34], "35");
+}
