@@ -162,8 +162,36 @@ pub struct PathOut {
     pub complete: bool,
     /// λ of the jumps met (degenerate passes; see `notes`).
     pub jumps: Vec<f64>,
-    /// What the walk met, in words (budget, jumps, unresolved stretches).
+    /// Branch points passed (non-generic places where several ways meet) and the way taken at each.
+    pub branch_points: Vec<BranchOut>,
+    /// What the walk met, in words (budget, jumps, unresolved stretches, branch points).
     pub notes: Vec<String>,
+}
+
+/// A branch point a path or trace passes, and which way it went on.
+#[derive(Debug, Clone, Serialize, JsonSchema)]
+pub struct BranchOut {
+    pub lambda: f64,
+    /// The steps flat there, numbered from 1.
+    pub steps: Vec<usize>,
+    /// The type it went on into.
+    pub took: String,
+    /// The types of every way meeting there (the one arrived from and the one taken included).
+    pub ways: Vec<String>,
+}
+
+/// The branch points `segments` pass, as data.
+pub fn branches_out(s: &Solved, segments: &[Segment]) -> Vec<BranchOut> {
+    let ty = |i: usize| s.space.intervals[i].ty.to_string();
+    crate::motion::branches_passed(&s.components, segments)
+        .into_iter()
+        .map(|b| BranchOut {
+            lambda: b.lambda,
+            steps: b.flat.iter().map(|k| k + 1).collect(),
+            took: ty(b.taken),
+            ways: b.ways.iter().map(|&i| ty(i)).collect(),
+        })
+        .collect()
 }
 
 #[derive(Debug, Clone, Serialize, JsonSchema)]
@@ -332,6 +360,9 @@ pub fn path(linkage: &Linkage, s: &Solved, from: &str, to: &str, walk: Walk) -> 
             let m = measure(&s.construction, linkage, segs.clone(), walk.step, &s.complexity.ccv, walk.max_samples);
             let lo = segs.iter().map(|x| x.from.min(x.to)).fold(f64::INFINITY, f64::min);
             let hi = segs.iter().map(|x| x.from.max(x.to)).fold(f64::NEG_INFINITY, f64::max);
+            let branch_points = branches_out(s, &segs);
+            let mut notes = present::walk_notes(&m.walk, walk.max_samples);
+            notes.extend(branch_points.iter().map(present::branch_taken));
             PathOut {
                 direction,
                 n_intervals: segs.len(),
@@ -343,7 +374,8 @@ pub fn path(linkage: &Linkage, s: &Solved, from: &str, to: &str, walk: Walk) -> 
                 samples: m.walk.samples,
                 complete: m.walk.complete(),
                 jumps: m.walk.jumps.clone(),
-                notes: present::walk_notes(&m.walk, walk.max_samples),
+                branch_points,
+                notes,
             }
         })
         .collect();

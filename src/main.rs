@@ -462,8 +462,10 @@ fn run(command: Command) -> Result<u8, Failure> {
             let component = component.map(ComponentNo::index);
             let segments = commands::trace_segments(linkage, s, component, between).map_err(arg_error)?;
             let columns = commands::TraceColumns { joints, angle, cayley };
+            let branches = commands::branches_out(s, &segments);
             let summary = write_streamed(output, |out| commands::trace_csv(linkage, s, segments, &columns, walk, out))?;
-            note_all(present::lazy_note(s).into_iter().chain(present::walk_notes(&summary, walk.max_samples)));
+            let walked = present::walk_notes(&summary, walk.max_samples);
+            note_all(present::lazy_note(s).into_iter().chain(walked).chain(branches.iter().map(present::branch_taken)));
             Ok(0)
         }
         Command::Closest { scene, components, gap, format, analysis } => {

@@ -433,6 +433,19 @@ pub fn certificate(c: &Certificate) -> String {
     o
 }
 
+/// A branch point passed, and the way taken, in words.
+pub fn branch_taken(b: &crate::commands::BranchOut) -> String {
+    let steps: Vec<String> = b.steps.iter().map(|k| k.to_string()).collect();
+    format!(
+        "at λ = {}, a branch point (steps {} flat; {} ways meet: {}), it went on into type {}",
+        fmt_sig(b.lambda, 17),
+        steps.join(", "),
+        b.ways.len(),
+        b.ways.join(", "),
+        b.took
+    )
+}
+
 /// Sentences about a walk that did not simply run from start to end.
 pub fn walk_notes(w: &crate::motion::WalkSummary, max_samples: usize) -> Vec<String> {
     let mut notes = Vec::new();

@@ -738,32 +738,14 @@ impl Model {
 
     /// At a branch point (several steps flat at once: a non-generic place,
     /// see [`crate::motion::BranchPoint`]) the oriented intervals that meet
-    /// there by the flip rule, the current one included, in index order:
-    /// every branch point recorded at this λ that shares an interval with
-    /// them, closed transitively (each walk records the ways it saw); empty
-    /// anywhere else.
+    /// there ([`crate::motion::ways_at`]), the current one included; empty anywhere else.
     pub fn branch_here(&self) -> Vec<usize> {
         let c = &self.cursor;
         let seg = &c.segments[c.seg];
         if c.lambda != seg.from && c.lambda != seg.to {
             return Vec::new();
         }
-        let here: Vec<Vec<usize>> = solved_of(&self.analysis)
-            .components
-            .branch_points
-            .iter()
-            .filter(|b| b.lambda == c.lambda)
-            .map(|b| std::iter::once(b.from).chain(b.options.iter().copied()).collect())
-            .collect();
-        let mut ways = vec![seg.interval];
-        let mut used = vec![false; here.len()];
-        while let Some(k) = (0..here.len()).find(|&k| !used[k] && here[k].iter().any(|i| ways.contains(i))) {
-            used[k] = true;
-            ways.extend(&here[k]);
-        }
-        ways.sort_unstable();
-        ways.dedup();
-        if ways.len() > 1 { ways } else { Vec::new() }
+        crate::motion::ways_at(&solved_of(&self.analysis).components, c.lambda, seg.interval)
     }
 
     /// Go on at a branch point by the next way (in interval order, round),

@@ -281,3 +281,28 @@ fn trace_angle_column_is_the_crank_angle_from_the_ground_line() {
     assert_eq!(bad.status.code(), Some(1));
     assert!(stderr(&bad).contains("--angle B,C: neither joint is a ground joint"), "{}", stderr(&bad));
 }
+
+/// The crank-rocker with AB = 2.5 (AB + BC = CD + DA): at λ = 6.5 both steps
+/// are stretched and all four types meet; paths and traces through it say
+/// which way they went on.
+#[test]
+fn paths_and_traces_say_which_way_they_took_at_a_branch_point() {
+    let text = bundled::find("fourbar-crank-rocker").unwrap().text.replace(r#"["A", "B", 1.0]"#, r#"["A", "B", 2.5]"#);
+    let (a, s) = solve_text(&text, "cr25");
+    let p = commands::path(&a.linkage, &s, "--@2", "+-@3", walk(0.05)).unwrap();
+    let along = p.paths.iter().find(|x| x.intervals.iter().any(|i| i.to == 6.5)).expect("one path passes λ = 6.5");
+    assert_eq!(along.branch_points.len(), 1, "{:?}", along.branch_points);
+    let b = &along.branch_points[0];
+    assert_eq!((b.lambda, b.steps.clone(), b.took.as_str()), (6.5, vec![1, 2], "+-"));
+    assert_eq!(b.ways, ["--", "-+", "+-", "++"]);
+    assert!(along.notes.iter().any(|n| n.contains("went on into type +-")), "{:?}", along.notes);
+    // The other path passes no branch point and says none.
+    let other = p.paths.iter().find(|x| !x.intervals.iter().any(|i| i.to == 6.5)).unwrap();
+    assert!(other.branch_points.is_empty() && !other.notes.iter().any(|n| n.contains("branch")));
+    // The trace of the component says it on stderr.
+    let dir = scratch("branch-trace");
+    let file = write(&dir, "cr25.toml", &text);
+    let o = caymos(&["trace", &file, "--component", "1"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stderr(&o).contains("a branch point (steps 1, 2 flat; 4 ways meet"), "{}", stderr(&o));
+}

@@ -206,6 +206,60 @@ pub fn components(space: &CayleySpace<f64>) -> Components {
     Components { list, of_interval, branch_points }
 }
 
+/// The oriented intervals meeting at a branch point at `lambda` that
+/// `interval` ends at: every branch point recorded there sharing an interval
+/// with them, closed transitively (each walk records the ways it saw), in
+/// index order, `interval` included. Empty when no branch point there
+/// involves it (a generic end: one way on).
+pub fn ways_at(components: &Components, lambda: f64, interval: usize) -> Vec<usize> {
+    let here: Vec<Vec<usize>> = components
+        .branch_points
+        .iter()
+        .filter(|b| b.lambda == lambda)
+        .map(|b| std::iter::once(b.from).chain(b.options.iter().copied()).collect())
+        .collect();
+    let mut ways = vec![interval];
+    let mut used = vec![false; here.len()];
+    while let Some(k) = (0..here.len()).find(|&k| !used[k] && here[k].iter().any(|i| ways.contains(i))) {
+        used[k] = true;
+        ways.extend(&here[k]);
+    }
+    ways.sort_unstable();
+    ways.dedup();
+    if ways.len() > 1 { ways } else { Vec::new() }
+}
+
+/// A branch point a walk along `segments` passes: where one segment ends
+/// and the next begins at a λ where several ways meet.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BranchPassed {
+    /// The λ of the branch point.
+    pub lambda: f64,
+    /// The steps flat there (0-based).
+    pub flat: Vec<usize>,
+    /// The interval the walk went on into.
+    pub taken: usize,
+    /// Every interval meeting there ([`ways_at`]), the one arrived from and `taken` included.
+    pub ways: Vec<usize>,
+}
+
+/// The branch points passed between consecutive `segments` of a motion, in order.
+pub fn branches_passed(components: &Components, segments: &[Segment]) -> Vec<BranchPassed> {
+    segments
+        .windows(2)
+        .filter(|w| w[0].to == w[1].from)
+        .filter_map(|w| {
+            let ways = ways_at(components, w[0].to, w[0].interval);
+            (!ways.is_empty()).then(|| BranchPassed {
+                lambda: w[0].to,
+                flat: w[0].flat_to.clone(),
+                taken: w[1].interval,
+                ways,
+            })
+        })
+        .collect()
+}
+
 /// The oriented interval holding a realization (its own type's interval).
 pub fn locate(space: &CayleySpace<f64>, r: &Realization, scale: f64) -> Option<usize> {
     let tol = crate::tolerance::FEASIBLE * scale;
