@@ -310,7 +310,7 @@ impl Job {
         Job { id, work: Work::Sweep { setup: Box::new(setup), from, to, steps } }
     }
 
-    /// Whether it is a sweep (the solver keeps the latest of each kind).
+    /// Whether it is a sweep (sweeps run on a thread of their own).
     pub fn is_sweep(&self) -> bool {
         matches!(self.work, Work::Sweep { .. })
     }

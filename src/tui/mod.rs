@@ -34,36 +34,37 @@ pub const WATCH: Duration = Duration::from_millis(250);
 /// Run the UI on a scene until the user quits.
 pub fn run(scene: Scene, base: Option<[usize; 2]>) -> std::io::Result<()> {
     let mut app = App::new(scene, base);
-    let (jobs, job_rx) = mpsc::channel::<Job>();
     let (done_tx, done) = mpsc::channel::<Done>();
-    // The solver: runs the latest analysis and the latest sweep asked for, skipping older ones.
-    std::thread::spawn(move || {
-        while let Ok(job) = job_rx.recv() {
-            let mut latest: [Option<Job>; 2] = [None, None];
-            let slot = usize::from(job.is_sweep());
-            latest[slot] = Some(job);
-            while let Ok(newer) = job_rx.try_recv() {
-                let slot = usize::from(newer.is_sweep());
-                latest[slot] = Some(newer);
-            }
-            for job in latest.into_iter().flatten() {
-                if done_tx.send(job.run()).is_err() {
-                    return;
-                }
-            }
-        }
-    });
+    // Analyses and sweeps on threads of their own, so a long sweep never holds up an edit's analysis.
+    let solver = Solver { analyses: solver_thread(done_tx.clone()), sweeps: solver_thread(done_tx), done };
     let theme = Theme::from_env();
     let mut terminal = ratatui::init();
-    let result = event_loop(&mut terminal, &mut app, Solver { jobs, done }, theme);
+    let result = event_loop(&mut terminal, &mut app, solver, theme);
     ratatui::restore();
     result
 }
 
-/// The channels to and from the solver thread.
+/// The channels to the solver threads, and back.
 struct Solver {
-    jobs: mpsc::Sender<Job>,
+    analyses: mpsc::Sender<Job>,
+    sweeps: mpsc::Sender<Job>,
     done: mpsc::Receiver<Done>,
+}
+
+/// A thread that runs the latest job sent to it, skipping older ones, and sends back what it made.
+fn solver_thread(done: mpsc::Sender<Done>) -> mpsc::Sender<Job> {
+    let (jobs, job_rx) = mpsc::channel::<Job>();
+    std::thread::spawn(move || {
+        while let Ok(mut job) = job_rx.recv() {
+            while let Ok(newer) = job_rx.try_recv() {
+                job = newer;
+            }
+            if done.send(job.run()).is_err() {
+                break;
+            }
+        }
+    });
+    jobs
 }
 
 fn event_loop(
@@ -76,7 +77,7 @@ fn event_loop(
     let mut watched = Instant::now();
     while !app.quit {
         while let Some(job) = app.take_job() {
-            let _ = solver.jobs.send(job);
+            let _ = if job.is_sweep() { solver.sweeps.send(job) } else { solver.analyses.send(job) };
         }
         while let Ok(done) = solver.done.try_recv() {
             app.finish(done);

@@ -118,3 +118,38 @@ fn snapshot_sweep_80x24() {
     sweep(&mut a, "0.5 3 26");
     insta::assert_snapshot!("sweep_crank_rocker_80x24", render(&a, 80, 24, Theme { color: false }).backend());
 }
+
+/// The real binary in a pseudo-terminal: the sweep runs on its own solver
+/// thread and shows; an edit while it shows is analysed and swept again.
+#[test]
+fn a_sweep_in_a_pseudo_terminal() {
+    use crate::tui::{spawn_in_pty, type_and_expect_clean_exit};
+    use std::io::Write;
+    use std::time::{Duration, Instant};
+
+    let (_master, mut child, mut writer, rx) = spawn_in_pty("fourbar-crank-rocker");
+    let mut parser = vt100::Parser::new(24, 80, 0);
+    let mut wait_for = |writer: &mut Box<dyn Write + Send>, keys: &[u8], want: &str| {
+        writer.write_all(keys).unwrap();
+        writer.flush().unwrap();
+        let deadline = Instant::now() + Duration::from_secs(20);
+        loop {
+            while let Ok(bytes) = rx.try_recv() {
+                parser.process(&bytes);
+            }
+            let screen = parser.screen().contents();
+            if screen.contains(want) {
+                return;
+            }
+            assert!(Instant::now() < deadline, "timed out waiting for {want:?}; screen:\n{screen}");
+            std::thread::sleep(Duration::from_millis(20));
+        }
+    };
+    wait_for(&mut writer, b"", "realization");
+    wait_for(&mut writer, b"m/A-B\r", "selected bar A");
+    let clear = "\x7f".repeat(30);
+    wait_for(&mut writer, format!("s{clear}0.5 3 26\r").as_bytes(), "A–B = 2.5: components 2 → 1");
+    // BC = 4.5: the transition moves to AB = 2 (AB + BC = CD + DA).
+    wait_for(&mut writer, format!("/B-C\r={clear}4.5\r").as_bytes(), "A–B = 2: components 2 → 1");
+    type_and_expect_clean_exit(b"q", &mut *child, &mut *writer, &rx, &mut parser);
+}
