@@ -502,18 +502,32 @@ fn scrolled(auto: usize, scroll: isize, rows: usize, total: usize) -> usize {
 
 fn draw_readout(frame: &mut Frame, m: &Model, area: Rect, theme: Theme) {
     let (mut lines, ccv) = readout_lines(m, usize::from(area.width.saturating_sub(2)), theme);
-    let room = usize::from(area.height.saturating_sub(2)).saturating_sub(lines.len());
-    let mut block = Block::bordered().title(Span::styled(" realization ", theme.title()));
-    if ccv.len() <= room {
-        lines.extend(ccv);
-    } else {
-        // Scrolled by { }, the rest counted in the bottom border.
-        let first = scrolled(0, m.scroll, room, ccv.len());
-        let n = ccv.len();
-        lines.extend(ccv.into_iter().skip(first).take(room));
-        block = block.title_bottom(Span::styled(format!(" {} ", more_note(first, room, n)), theme.dim()));
-    }
+    let block = Block::bordered().title(Span::styled(" realization ", theme.title()));
+    let rows = usize::from(area.height.saturating_sub(2));
+    let block = append_scrolled(&mut lines, ccv, rows, m.scroll, block, theme);
     frame.render_widget(Paragraph::new(lines).block(block), area);
+}
+
+/// `list` after `lines`, in what is left of `rows`: whole when it fits,
+/// else a window scrolled by `scroll` (`{` `}`) with the rest counted in the
+/// bottom border of `block`, which is returned.
+fn append_scrolled<'a>(
+    lines: &mut Vec<Line<'a>>,
+    list: Vec<Line<'a>>,
+    rows: usize,
+    scroll: isize,
+    block: Block<'a>,
+    theme: Theme,
+) -> Block<'a> {
+    let room = rows.saturating_sub(lines.len());
+    if list.len() <= room {
+        lines.extend(list);
+        return block;
+    }
+    let first = scrolled(0, scroll, room, list.len());
+    let n = list.len();
+    lines.extend(list.into_iter().skip(first).take(room));
+    block.title_bottom(Span::styled(format!(" {} ", more_note(first, room, n)), theme.dim()))
 }
 
 fn draw_components(frame: &mut Frame, m: &Model, area: Rect, theme: Theme) {
@@ -724,15 +738,7 @@ fn draw_sweep(frame: &mut Frame, app: &App, s: &SweepView, area: Rect, theme: Th
         let note = format!(" +{more} more rows of the chart: enlarge the terminal ");
         block = block.title_bottom(Span::styled(note, theme.warn()));
     }
-    let room = rows.saturating_sub(lines.len());
-    if list.len() <= room {
-        lines.extend(list);
-    } else {
-        let first = scrolled(0, s.scroll, room, list.len());
-        let n = list.len();
-        lines.extend(list.into_iter().skip(first).take(room));
-        block = block.title_bottom(Span::styled(format!(" {} ", more_note(first, room, n)), theme.dim()));
-    }
+    let block = append_scrolled(&mut lines, list, rows, s.scroll, block, theme);
     frame.render_widget(Paragraph::new(lines).block(block), area);
 }
 
