@@ -153,3 +153,36 @@ fn a_sweep_in_a_pseudo_terminal() {
     wait_for(&mut writer, format!("/B-C\r={clear}4.5\r").as_bytes(), "A–B = 2: components 2 → 1");
     type_and_expect_clean_exit(b"q", &mut *child, &mut *writer, &rx, &mut parser);
 }
+
+/// Scaling the scene scales the sweep: the Grashof transition of the
+/// crank-rocker lands at 2.5 × the factor, at 1e±150 as at 1.
+#[test]
+fn a_sweep_scales_with_the_scene() {
+    for factor in [1e-150, 1e150] {
+        let mut scene = caymos::bundled::load("fourbar-crank-rocker").unwrap();
+        for j in &mut scene.joints {
+            j.pos = j.pos.map(|x| x * factor);
+        }
+        for b in &mut scene.bars {
+            b.length = b.length.map(|l| l * factor);
+        }
+        // Through the file format, so the lengths are read as written.
+        let text = caymos::generate::to_toml(&scene);
+        let scene = caymos::scene::parse_scene(&text, "scaled", "scaled.toml").unwrap();
+        let mut a = App::ready(caymos::analysis::analyse(scene, None).unwrap());
+        press(&mut a, "m/A-B⏎");
+        // The default range scales too: (0, Σ other bars] = (0, 10.5 × factor].
+        press(&mut a, "s");
+        let typed = a.input.as_ref().unwrap().text.clone();
+        let words: Vec<f64> = typed.split(' ').map(|w| w.parse().unwrap()).collect();
+        assert!((words[1] / (10.5 * factor) - 1.0).abs() <= 1e-5, "{typed}");
+        press(&mut a, "⎋");
+        sweep(&mut a, &format!("{:e} {:e} 26", 0.5 * factor, 3.0 * factor));
+        let t = transitions(&a);
+        assert_eq!(t.len(), 1, "×{factor:e}: {t:?}");
+        assert!((t[0].0 / (2.5 * factor) - 1.0).abs() <= 1e-12, "×{factor:e}: {t:?}");
+        assert!(t[0].1.contains(&Change::Components { from: 2, to: 1 }), "{t:?}");
+        let screen = format!("{}", render(&a, 80, 24, Theme { color: false }).backend());
+        assert!(screen.contains("components 2 → 1"), "{screen}");
+    }
+}
