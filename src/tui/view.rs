@@ -758,7 +758,9 @@ fn status_lines(app: &App, width: usize, theme: Theme) -> Vec<Line<'static>> {
                 let what = match swept {
                     Swept::Bar(_) => format!("sweep {} length, FROM TO [STEPS]: ", swept.name(&app.doc.scene)),
                     Swept::Joint { joint, .. } => {
-                        format!("sweep joint {}, x|y FROM TO [STEPS]: ", app.doc.scene.joints[joint].name)
+                        // The file may have lost the joint since the prompt opened (a reload).
+                        let name = app.doc.scene.joints.get(joint).map_or("?", |j| j.name.as_str());
+                        format!("sweep joint {name}, x|y FROM TO [STEPS]: ")
                     }
                 };
                 (what, "sweep")
