@@ -180,10 +180,15 @@ pub struct BranchOut {
     pub ways: Vec<String>,
 }
 
-/// The branch points `segments` pass, as data.
+/// The branch points `segments` pass, as data (round a whole closed
+/// component, the way from its last interval back to its first too).
 pub fn branches_out(s: &Solved, segments: &[Segment]) -> Vec<BranchOut> {
     let ty = |i: usize| s.space.intervals[i].ty.to_string();
-    crate::motion::branches_passed(&s.components, segments)
+    let whole = segments.first().is_some_and(|f| {
+        let c = &s.components.list[s.components.of_interval[f.interval]];
+        c.closed && segments.iter().map(|x| x.interval).eq(c.intervals.iter().copied())
+    });
+    crate::motion::branches_passed(&s.components, segments, whole)
         .into_iter()
         .map(|b| BranchOut {
             lambda: b.lambda,
@@ -771,7 +776,7 @@ fn find_bar(scene: &Scene, text: &str, flag: &str) -> Result<usize, String> {
     };
     let find = |n: &str| scene.joint_index(n).ok_or_else(|| bad(format!("no joint named \"{n}\" in {}", scene.source)));
     let (a, b) = (find(a)?, find(b)?);
-    scene.bars.iter().position(|bar| bar.joints == [a, b] || bar.joints == [b, a]).ok_or_else(|| {
+    scene.bar_index(a, b).ok_or_else(|| {
         bad(format!("no bar joins {} and {} in {}", scene.joints[a].name, scene.joints[b].name, scene.source))
     })
 }
@@ -794,22 +799,32 @@ pub fn input_bar(scene: &Scene, text: &str, flag: &str) -> Result<InputBar, Stri
 
 /// The range and sample count, checked: finite, from < to, 2 ≤ steps ≤ [`MAX_STEPS`],
 /// and a length range above zero.
-pub fn check_sweep_range(parameter: Parameter, from: f64, to: f64, steps: usize) -> Result<(), String> {
+pub fn check_sweep_range(parameter: Parameter, from: f64, to: f64, steps: usize, naming: Naming) -> Result<(), String> {
+    let [f, t, n] = match naming {
+        Naming::Flags => ["--from ", "--to ", "--steps "],
+        Naming::Words => ["from ", "to ", "steps "],
+    };
     if !from.is_finite() || !to.is_finite() {
-        return Err(format!("--from {from} --to {to}: give finite numbers"));
+        return Err(format!("{f}{from} {t}{to}: give finite numbers"));
     }
     if from >= to {
-        return Err(format!("--from {from} must be below --to {to}"));
+        return Err(format!("{f}{from} must be below {t}{to}"));
     }
     if matches!(parameter, Parameter::BarLength(_)) && from <= 0.0 {
-        return Err(format!("--from {from}: a bar length must be positive"));
+        return Err(format!("{f}{from}: a bar length must be positive"));
     }
     if !(2..=MAX_STEPS).contains(&steps) {
-        return Err(format!(
-            "--steps {steps}: give 2 to {MAX_STEPS} samples (a bounded cost; a long sweep can be split with --shard I/N)"
-        ));
+        let split = if naming == Naming::Flags { "; a long sweep can be split with --shard I/N" } else { "" };
+        return Err(format!("{n}{steps}: give 2 to {MAX_STEPS} samples (a bounded cost{split})"));
     }
     Ok(())
+}
+
+/// How an error names what was given: by its command-line flag, or in words (the TUI's prompt).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Naming {
+    Flags,
+    Words,
 }
 
 /// `caymos sweep --format json`: every sample and every transition of this shard.
@@ -1206,14 +1221,17 @@ impl SweepReport {
         if let Some(v) = now {
             let here = format!("now {} = {}", self.parameter, present::sig(v));
             if (lo..=hi).contains(&v) {
-                // The marker under its column, the words beside it on whichever side has room.
-                let c = col_of(v);
-                let line = if c + 2 + here.chars().count() <= cols {
-                    format!("{}▲ {here}", " ".repeat(c))
+                // The marker under its column; the words beside it where they fit, else on a line of their own.
+                let (c, n) = (col_of(v), here.chars().count());
+                let marker = " ".repeat(c);
+                if c + 2 + n <= cols {
+                    o.push(format!("{:>5}  {marker}▲ {here}", ""));
+                } else if n < c {
+                    o.push(format!("{:>5}  {}{here} ▲", "", " ".repeat(c - n - 1)));
                 } else {
-                    format!("{}{here} ▲", " ".repeat((c + 1).saturating_sub(here.chars().count() + 2)))
-                };
-                o.push(format!("{:>5}  {line}", ""));
+                    o.push(format!("{:>5}  {marker}▲", ""));
+                    o.push(format!("{:>5}  {here}", ""));
+                }
             } else {
                 o.push(format!("{:>5}  {here}: outside the range swept", ""));
             }

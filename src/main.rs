@@ -498,7 +498,7 @@ fn run(command: Command) -> Result<u8, Failure> {
             let scene = bundled::resolve(scene.as_deref())?;
             let base = base.map(|b| parse_base(&scene, &b)).transpose()?;
             let parameter = commands::sweep_parameter(&scene, bar.as_deref(), joint.as_deref()).map_err(arg_error)?;
-            commands::check_sweep_range(parameter, from, to, steps).map_err(arg_error)?;
+            commands::check_sweep_range(parameter, from, to, steps, commands::Naming::Flags).map_err(arg_error)?;
             let shard = commands::Shard::parse(&shard).map_err(arg_error)?;
             let input =
                 input_bar.map(|b| commands::input_bar(&scene, &b, "--input-bar")).transpose().map_err(arg_error)?;
@@ -719,7 +719,7 @@ fn parse_base(scene: &Scene, text: &str) -> Result<[usize; 2], Failure> {
     if a == b {
         return Err(bad("the two joints must differ".into()));
     }
-    if scene.bars.iter().any(|bar| bar.joints == [a, b] || bar.joints == [b, a]) {
+    if scene.bar_index(a, b).is_some() {
         return Err(bad("that is a bar; the base must be a non-edge".into()));
     }
     Ok([a, b])

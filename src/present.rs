@@ -19,10 +19,12 @@ use crate::numfmt::{fmt_num, fmt_sig, fmt_span};
 use crate::realize::Event;
 use crate::realize::{RealizationType, Unrealizable};
 
-/// λ in sentences: as many significant digits as tell two f64 apart, never a
-/// fixed number of decimals (1e-20 and 1e300 print as such).
+/// λ in sentences: the shortest digits that read back as the same f64
+/// (so two floats print apart, and 0.2 prints as 0.2), positional between
+/// 1e-4 and 1e9 as the tables are, else scientific (1e-20, 1e300).
 pub fn sig(x: f64) -> String {
-    fmt_sig(x, 17)
+    let exp = if x == 0.0 || !x.is_finite() { 0.0 } else { x.abs().log10().floor() };
+    if (-4.0..9.0).contains(&exp) { format!("{x}") } else { format!("{x:e}") }
 }
 
 /// A distance to full precision: the shortest form that reads back exactly,

@@ -360,8 +360,9 @@ pub struct App {
     pub(super) base: Option<[usize; 2]>,
     /// The sweep shown in place of the drawing (`s`), if one was asked for.
     pub sweep: Option<SweepView>,
-    /// The sweep asked for and not yet handed out.
+    /// The sweep asked for and not yet handed out, and how many were asked for (each sweep's id).
     pub(super) sweep_job: Option<Job>,
+    pub(super) sweeps_asked: u64,
     /// The analysis asked for and not yet handed out, and the ids asked and installed.
     job: Option<Job>,
     asked: u64,
@@ -396,6 +397,7 @@ impl App {
             base,
             sweep: None,
             sweep_job: None,
+            sweeps_asked: 0,
             job: None,
             asked: 0,
             installed: 0,
@@ -507,7 +509,8 @@ impl App {
             Action::NameAxes => {
                 let l = &m.analysis().linkage;
                 let ccv = &m.solved().complexity.ccv;
-                let names: Vec<String> = m.camera.axes.iter().map(|&k| l.pair_name(ccv[k])).collect();
+                let names: Vec<String> =
+                    m.camera.axes.iter().filter_map(|&k| ccv.get(k)).map(|&p| l.pair_name(p)).collect();
                 self.input = Some(Prompt { kind: PromptKind::Axes, text: names.join(" ") });
             }
             Action::NextBase => {
@@ -561,6 +564,9 @@ impl App {
             },
         }
         m.sync();
+        if action == Action::NextInputBar {
+            self.resweep(); // the sweep counts the full turns of the input bar
+        }
     }
 
     /// A character typed while a prompt is open; Enter applies it.
@@ -765,7 +771,7 @@ impl Model {
         let along = if seg.from == lambda { "→" } else { "←" };
         Ok(format!(
             "branch point λ = {} (steps {} flat): way {} of {}, type {} in component {}; {along} goes along it",
-            fmt_num(lambda),
+            crate::present::sig(lambda),
             flat.join(", "),
             k + 1,
             ways.len(),
@@ -1213,12 +1219,11 @@ impl Model {
         }
         let mut axes = [0; 3];
         for (axis, word) in axes.iter_mut().zip(&words) {
-            let names: Vec<&str> = word.split(['-', '–', ',']).filter(|n| !n.is_empty()).collect();
-            let joints: Option<Vec<usize>> = names.iter().map(|n| l.names.iter().position(|m| m == n)).collect();
-            let found = match joints.as_deref() {
-                Some(&[p, q]) => ccv.iter().position(|&e| e == [p, q] || e == [q, p]),
-                _ => None,
-            };
+            let found = self
+                .analysis
+                .scene
+                .joint_pair(word)
+                .and_then(|[p, q]| ccv.iter().position(|&e| e == [p, q] || e == [q, p]));
             *axis = found.ok_or_else(|| format!("{word} is not in the complete Cayley vector: {}", entries()))?;
         }
         if axes[0] == axes[1] || axes[1] == axes[2] || axes[0] == axes[2] {

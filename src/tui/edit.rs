@@ -150,9 +150,7 @@ impl App {
 
     /// A bar's length: stated, else drawn.
     pub fn bar_length(&self, i: usize) -> f64 {
-        let s = &self.doc.scene;
-        let b = &s.bars[i];
-        b.length.unwrap_or_else(|| crate::linkage::dist(s.joints[b.joints[0]].pos, s.joints[b.joints[1]].pos))
+        self.doc.scene.bar_length(i)
     }
 
     /// Select the next (`by` = 1) or previous joint or bar: joints first, then bars.
@@ -174,12 +172,7 @@ impl App {
         let item = if let Some(j) = s.joint_index(text) {
             Item::Joint(j)
         } else {
-            let names: Vec<&str> = text.split(['-', '–', ' ', ',']).filter(|p| !p.is_empty()).collect();
-            let ends: Option<Vec<usize>> = names.iter().map(|n| s.joint_index(n)).collect();
-            let bar = match ends.as_deref() {
-                Some(&[a, b]) => s.bars.iter().position(|bar| bar.joints == [a, b] || bar.joints == [b, a]),
-                _ => None,
-            };
+            let bar = s.joint_pair(text).and_then(|[a, b]| s.bar_index(a, b));
             let joints: Vec<&str> = s.joints.iter().map(|j| j.name.as_str()).collect();
             Item::Bar(bar.ok_or_else(|| {
                 format!("no joint or bar {text:?}: type a joint ({}) or a bar like A-B", joints.join(", "))

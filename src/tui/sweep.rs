@@ -7,9 +7,9 @@
 use crate::commands::{self, Shard, SweepReport};
 use crate::numfmt::fmt_sig;
 use crate::scene::Scene;
-use crate::sweep::{InputBar, Parameter, Setup};
+use crate::sweep::{Parameter, Setup};
 
-use super::app::{App, Job, Prompt, PromptKind};
+use super::app::{App, Job, Prompt, PromptKind, input_bars};
 use super::edit::Item;
 use super::keymap::{Action, Mode};
 
@@ -29,9 +29,7 @@ impl Swept {
     /// The parameter on `scene`; `None` when the bar is gone.
     pub fn parameter(self, scene: &Scene) -> Option<Parameter> {
         match self {
-            Swept::Bar([a, b]) => {
-                scene.bars.iter().position(|bar| bar.joints == [a, b] || bar.joints == [b, a]).map(Parameter::BarLength)
-            }
+            Swept::Bar([a, b]) => scene.bar_index(a, b).map(Parameter::BarLength),
             Swept::Joint { joint, axis } => (joint < scene.joints.len()).then_some(Parameter::Joint { joint, axis }),
         }
     }
@@ -47,14 +45,17 @@ impl Swept {
 
     /// Its value in `scene` now: the bar's stated (else drawn) length, or the coordinate.
     pub fn value(self, scene: &Scene) -> Option<f64> {
-        match (self, self.parameter(scene)?) {
-            (_, Parameter::BarLength(i)) => {
-                let b = &scene.bars[i];
-                Some(b.length.unwrap_or_else(|| {
-                    crate::linkage::dist(scene.joints[b.joints[0]].pos, scene.joints[b.joints[1]].pos)
-                }))
-            }
-            (_, Parameter::Joint { joint, axis }) => Some(scene.joints[joint].pos[axis]),
+        match self.parameter(scene)? {
+            Parameter::BarLength(i) => Some(scene.bar_length(i)),
+            Parameter::Joint { joint, axis } => Some(scene.joints[joint].pos[axis]),
+        }
+    }
+
+    /// "the swept bar A–B is gone", or the joint coordinate.
+    pub fn gone(self, scene: &Scene) -> String {
+        match self {
+            Swept::Bar(_) => format!("the swept bar {} is gone", self.name(scene)),
+            Swept::Joint { .. } => format!("the swept joint coordinate {} is gone", self.name(scene)),
         }
     }
 
@@ -63,11 +64,10 @@ impl Swept {
     /// linkage, so no realization is longer), from the first of `steps`
     /// equal parts; for a coordinate, the drawing's widest spread either side.
     pub fn default_range(self, scene: &Scene, steps: usize) -> [f64; 2] {
-        let length = |i: usize| Swept::Bar(scene.bars[i].joints).value(scene).unwrap_or(0.0);
         match self.parameter(scene) {
             Some(Parameter::BarLength(i)) => {
-                let others: f64 = (0..scene.bars.len()).filter(|&k| k != i).map(length).sum();
-                let top = if others > 0.0 { others } else { 2.0 * length(i).max(f64::MIN_POSITIVE) };
+                let others: f64 = (0..scene.bars.len()).filter(|&k| k != i).map(|k| scene.bar_length(k)).sum();
+                let top = if others > 0.0 { others } else { 2.0 * scene.bar_length(i).max(f64::MIN_POSITIVE) };
                 [top / steps as f64, top]
             }
             Some(Parameter::Joint { .. }) => {
@@ -76,7 +76,7 @@ impl Swept {
                     let along = || scene.joints.iter().map(move |j| j.pos[k]);
                     along().fold(f64::NEG_INFINITY, f64::max) - along().fold(f64::INFINITY, f64::min)
                 };
-                let span = [spread(0), spread(1), v.abs(), 1.0].into_iter().find(|x| *x > 0.0).unwrap_or(1.0);
+                let span = [spread(0).max(spread(1)), v.abs(), 1.0].into_iter().find(|x| *x > 0.0).unwrap_or(1.0);
                 [v - span, v + span]
             }
             None => [0.0, 1.0],
@@ -91,12 +91,12 @@ pub struct SweepView {
     pub from: f64,
     pub to: f64,
     pub steps: usize,
-    /// The input bar whose full turns are counted (the angle drive's, when one was chosen).
-    pub input: Option<InputBar>,
     /// The latest sweep that came back (of an earlier scene while `pending`).
     pub report: Option<SweepReport>,
     /// A sweep of the current scene is running.
     pub pending: bool,
+    /// The scene changed while the sweep was hidden: it runs again when shown.
+    pub stale: bool,
     /// Why the sweep cannot run on the current scene (its bar was deleted).
     pub error: Option<String>,
     /// Shown in place of the drawing.
@@ -119,7 +119,12 @@ impl App {
                 }
             }
             Action::ToggleSweep => match &mut self.sweep {
-                Some(s) => s.shown = !s.shown,
+                Some(s) => {
+                    s.shown = !s.shown;
+                    if s.shown && s.stale {
+                        self.resweep();
+                    }
+                }
                 None => self.message = Some("no sweep yet: s sweeps the selected bar or joint".into()),
             },
             Action::ScrollDown | Action::ScrollUp if self.sweep.as_ref().is_some_and(|s| s.shown) => {
@@ -186,17 +191,16 @@ impl App {
             [a, b, n] => (number(a)?, number(b)?, n.parse::<usize>().map_err(|_| format!("\"{n}\" is not a count"))?),
             _ => return Err(usage()),
         };
-        let parameter = swept.parameter(&self.doc.scene).ok_or("that bar is gone")?;
-        commands::check_sweep_range(parameter, from, to, steps)?;
-        let input = self.model().and_then(|m| m.drive.input);
+        let parameter = swept.parameter(&self.doc.scene).ok_or_else(|| swept.gone(&self.doc.scene))?;
+        commands::check_sweep_range(parameter, from, to, steps, commands::Naming::Words)?;
         self.sweep = Some(SweepView {
             swept,
             from,
             to,
             steps,
-            input,
             report: None,
             pending: false,
+            stale: false,
             error: None,
             shown: true,
             scroll: 0,
@@ -206,21 +210,31 @@ impl App {
         Ok(())
     }
 
-    /// Ask for the sweep again on the current scene (after an edit, a reload, a new base).
+    /// Ask for the sweep again on the current scene (after an edit, a
+    /// reload, a new base or input bar); while hidden, only mark it stale
+    /// (it runs again when shown), so hidden sweeps never compete with edits.
     pub(super) fn resweep(&mut self) {
         let scene = self.doc.scene.clone();
         let base = self.base;
+        // The angle drive's input bar, if it is still one of this scene's.
+        let input = self.model().and_then(|m| m.drive.input).filter(|b| input_bars(&scene).contains(b));
         let Some(s) = &mut self.sweep else { return };
-        s.id += 1;
+        s.stale = !s.shown;
+        if s.stale {
+            return;
+        }
+        // Ids from one counter, so a result of an older sweep never passes for a newer one's.
+        self.sweeps_asked += 1;
+        s.id = self.sweeps_asked;
         s.error = None;
         s.pending = false;
         match s.swept.parameter(&scene) {
             Some(parameter) => {
                 s.pending = true;
-                let setup = Setup { scene, parameter, base, input: s.input };
+                let setup = Setup { scene, parameter, base, input };
                 self.sweep_job = Some(Job::sweep(s.id, setup, s.from, s.to, s.steps));
             }
-            None => s.error = Some(format!("the swept bar {} is gone (undo brings it back)", s.swept.name(&scene))),
+            None => s.error = Some(format!("{} (undo brings it back)", s.swept.gone(&scene))),
         }
     }
 

@@ -698,10 +698,18 @@ fn draw_sweep(frame: &mut Frame, app: &App, s: &SweepView, area: Rect, theme: Th
         Swept::Joint { .. } => format!("joint coordinate {}", s.swept.name(scene)),
     };
     let state = if s.pending { " · updating …" } else { "" };
-    let title = format!(" sweep of {what} · {} samples{state} · S hides ", s.steps);
-    let mut block = Block::bordered().title(Span::styled(title, theme.title()));
     let width = usize::from(area.width.saturating_sub(2));
     let rows = usize::from(area.height.saturating_sub(2));
+    // The title in full where it fits, else its essentials (long joint names).
+    let title = [
+        format!(" sweep of {what} · {} samples{state} · S hides ", s.steps),
+        format!(" sweep of {}{state} · S hides ", s.swept.name(scene)),
+        format!(" sweep{state} "),
+    ]
+    .into_iter()
+    .find(|t| t.chars().count() <= width)
+    .unwrap_or_default();
+    let mut block = Block::bordered().title(Span::styled(title, theme.title()));
     let (mut lines, list): (Vec<Line>, Vec<Line>) = match (&s.error, &s.report) {
         (Some(e), _) => (vec![Line::styled(e.clone(), theme.warn())], Vec::new()),
         (None, None) => {
@@ -709,11 +717,26 @@ fn draw_sweep(frame: &mut Frame, app: &App, s: &SweepView, area: Rect, theme: Th
             (vec![Line::raw(text)], Vec::new())
         }
         (None, Some(r)) => {
-            let chart = r.chart(width, app.swept_now());
-            // Bars fit by construction; a long heading wraps.
-            let chart = chart
+            let mut chart = r.chart(width, app.swept_now());
+            let (heading, bars) = if chart.is_empty() {
+                (Vec::new(), 0)
+            } else {
+                // A long heading wraps; the bars fit by construction.
+                let bars = chart.iter().skip(1).take_while(|l| l.contains(" |")).count();
+                (wrap_words(&chart.remove(0), width), bars)
+            };
+            // Too tall (many components): the highest rows go, and the note says so;
+            // the axis, the transition digits, ▲ and one row of the list stay.
+            let room = rows.saturating_sub(heading.len() + usize::from(!r.transitions.is_empty()));
+            let hidden = chart.len().saturating_sub(room).min(bars.saturating_sub(1));
+            if hidden > 0 {
+                chart.drain(..hidden);
+                let note = format!(" the {hidden} highest rows of the chart are hidden: enlarge the terminal ");
+                block = block.title_bottom(Span::styled(note, theme.warn()));
+            }
+            let chart = heading
                 .into_iter()
-                .flat_map(|l| if l.chars().count() > width { wrap_words(&l, width) } else { vec![l] })
+                .chain(chart)
                 .map(|l| if l.contains('▲') { Line::styled(l, theme.highlight()) } else { Line::raw(l) })
                 .collect();
             let list = r
@@ -732,7 +755,7 @@ fn draw_sweep(frame: &mut Frame, app: &App, s: &SweepView, area: Rect, theme: Th
         }
     };
     if lines.len() > rows {
-        // More components than rows: say so rather than cut silently.
+        // Still taller than the panel (a very small terminal): say so rather than cut silently.
         let more = lines.len() - rows;
         lines.truncate(rows);
         let note = format!(" +{more} more rows of the chart: enlarge the terminal ");

@@ -250,3 +250,29 @@ fn a_sample_on_the_transition_still_gives_one_transition() {
     assert!(t.between.iter().any(|p| p.value == 2.5), "{t:#?}");
     assert!(t.changes.contains(&Change::Components { from: 2, to: 1 }), "{:?}", t.changes);
 }
+
+/// The chart's ▲ stands under the column of the value now, whether its
+/// words fit right of it, left of it or only on a line of their own.
+#[test]
+fn the_marker_of_the_value_now_is_under_its_column() {
+    let setup = Setup {
+        scene: caymos::bundled::load("fourbar-crank-rocker").unwrap(),
+        parameter: Parameter::BarLength(0),
+        base: None,
+        input: None,
+    };
+    let r = caymos::commands::sweep_report(&setup, 0.2, 2.0, 2, Shard::ALL);
+    for width in [23, 30, 50, 80] {
+        let cols = (width - 7).min(16);
+        for v in [0.2, 0.5, 1.0, 1.4, 1.9, 2.0] {
+            let chart = r.chart(width, Some(v));
+            let line = chart.iter().find(|l| l.contains('▲')).unwrap_or_else(|| panic!("{chart:#?}"));
+            let at = line.chars().position(|c| c == '▲').unwrap();
+            let want = 7 + ((v - 0.2) / 1.8 * (cols - 1) as f64).round() as usize;
+            assert_eq!(at, want, "width {width}, value {v}: {chart:#?}");
+            assert!(chart.iter().any(|l| l.contains("now A–B = ")), "the value is said: {chart:#?}");
+            // Every line but the heading (which the TUI wraps) fits.
+            assert!(chart.iter().skip(1).all(|l| l.chars().count() <= width), "{chart:#?}");
+        }
+    }
+}

@@ -3,7 +3,8 @@
 //! the transitions move as the closed form says (Grashof: s + l = p + q).
 
 use caymos::sweep::Change;
-use caymos::tui::app::App;
+use caymos::tui::app::{App, PromptKind};
+use caymos::tui::sweep::Swept;
 use caymos::tui::theme::Theme;
 
 use crate::tui::{app, press, render};
@@ -81,10 +82,12 @@ fn a_joint_sweeps_x_or_y_and_bad_ranges_say_why() {
     let s = a.sweep.as_ref().unwrap();
     assert_eq!(s.swept, caymos::tui::sweep::Swept::Joint { joint: 2, axis: 1 });
     assert!(s.report.is_some());
-    for (typed, why) in [("3 1", "must be below"), ("1 two", "not a number"), ("1", "FROM TO"), ("1 2 1", "--steps")] {
+    for (typed, why) in
+        [("3 1", "must be below"), ("1 two", "not a number"), ("1", "FROM TO"), ("1 2 1", "steps 1: give 2 to")]
+    {
         sweep(&mut a, typed);
         let m = a.message.clone().unwrap_or_default();
-        assert!(m.contains(why), "{typed:?}: {m:?}");
+        assert!(m.contains(why) && !m.contains("--"), "{typed:?}: {m:?} (in words, not flags)");
     }
     // The last good sweep stays.
     assert_eq!(a.sweep.as_ref().unwrap().steps, 12);
@@ -99,7 +102,11 @@ fn exploring_without_a_bar_says_what_to_do_and_a_deleted_bar_is_said_gone() {
     // With an input bar chosen (i), s sweeps it.
     press(&mut a, "i");
     press(&mut a, "s");
-    assert!(a.input.is_some(), "{:?}", a.message);
+    let bar = a.model().unwrap().drive.input.expect("an input bar");
+    match a.input.as_ref().map(|p| p.kind) {
+        Some(PromptKind::Sweep(Swept::Bar(ends))) => assert_eq!(ends, [bar.pivot, bar.tip]),
+        other => panic!("a sweep prompt for the input bar, not {other:?}; {:?}", a.message),
+    }
     press(&mut a, "⎋");
     // Delete the swept bar: the sweep says it is gone; undo brings it back.
     let mut a = crank_rocker_on_ab();
@@ -185,4 +192,54 @@ fn a_sweep_scales_with_the_scene() {
         let screen = format!("{}", render(&a, 80, 24, Theme { color: false }).backend());
         assert!(screen.contains("components 2 → 1"), "{screen}");
     }
+}
+
+/// Only the newest sweep's result is shown: an older one finishing late is dropped.
+#[test]
+fn a_late_result_of_an_older_sweep_is_dropped() {
+    let mut a = crank_rocker_on_ab();
+    // Ask for two sweeps without running them (keys only, no settle), then finish them out of order.
+    use caymos::tui::handle_key;
+    use ratatui::crossterm::event::{KeyCode, KeyEvent};
+    handle_key(&mut a, KeyEvent::from(KeyCode::Char('s')));
+    handle_key(&mut a, KeyEvent::from(KeyCode::Enter));
+    let first = a.take_job().expect("the first sweep");
+    handle_key(&mut a, KeyEvent::from(KeyCode::Char('s')));
+    a.input.as_mut().unwrap().text = "0.5 3 26".into();
+    handle_key(&mut a, KeyEvent::from(KeyCode::Enter));
+    let second = a.take_job().expect("the second sweep");
+    a.finish(first.run());
+    let s = a.sweep.as_ref().unwrap();
+    assert!(s.pending && s.report.is_none(), "the first sweep's result is not the second's");
+    a.finish(second.run());
+    assert_eq!(transitions(&a).len(), 1);
+    assert_eq!(a.sweep.as_ref().unwrap().steps, 26);
+}
+
+/// The sweep follows what changes its answer: a new base, a new input bar,
+/// an edit (only when shown: hidden, it waits until shown again).
+#[test]
+fn the_sweep_runs_again_on_a_new_base_or_input_bar_and_waits_while_hidden() {
+    let mut a = crank_rocker_on_ab();
+    sweep(&mut a, "0.5 3 8");
+    let id = |a: &App| a.sweep.as_ref().unwrap().id;
+    let first = id(&a);
+    press(&mut a, "m"); // explore: B and i
+    press(&mut a, "B");
+    assert!(id(&a) > first, "a new base sweeps again");
+    assert_eq!(transitions(&a).len(), 1, "the realization space, so the transition, does not depend on the base");
+    let before = id(&a);
+    press(&mut a, "i");
+    assert!(id(&a) > before, "a new input bar sweeps again");
+    let r = a.sweep.as_ref().unwrap().report.as_ref().unwrap();
+    assert!(r.input_bar.is_some(), "its full turns are counted");
+    // Hidden: an edit marks it stale and asks for nothing; shown, it runs.
+    press(&mut a, "S");
+    let hidden = id(&a);
+    press(&mut a, &format!("m/B-C⏎={}4.5⏎", "⌫".repeat(30)));
+    assert_eq!(id(&a), hidden);
+    assert!(a.sweep.as_ref().unwrap().stale);
+    press(&mut a, "S");
+    assert!(id(&a) > hidden);
+    assert!((transitions(&a)[0].0 - 2.0).abs() <= 1e-12);
 }

@@ -243,19 +243,19 @@ pub struct BranchPassed {
     pub ways: Vec<usize>,
 }
 
-/// The branch points passed between consecutive `segments` of a motion, in order.
-pub fn branches_passed(components: &Components, segments: &[Segment]) -> Vec<BranchPassed> {
+/// The branch points passed between consecutive `segments` of a motion, in
+/// order; with `closed` (a whole closed component, walked round) also the
+/// one from the last segment back to the first.
+pub fn branches_passed(components: &Components, segments: &[Segment], closed: bool) -> Vec<BranchPassed> {
+    let wrap = segments.last().zip(segments.first()).filter(|_| closed && segments.len() > 1);
     segments
         .windows(2)
-        .filter(|w| w[0].to == w[1].from)
-        .filter_map(|w| {
-            let ways = ways_at(components, w[0].to, w[0].interval);
-            (!ways.is_empty()).then(|| BranchPassed {
-                lambda: w[0].to,
-                flat: w[0].flat_to.clone(),
-                taken: w[1].interval,
-                ways,
-            })
+        .map(|w| (&w[0], &w[1]))
+        .chain(wrap)
+        .filter(|(a, b)| a.to == b.from)
+        .filter_map(|(a, b)| {
+            let ways = ways_at(components, a.to, a.interval);
+            (!ways.is_empty()).then(|| BranchPassed { lambda: a.to, flat: a.flat_to.clone(), taken: b.interval, ways })
         })
         .collect()
 }

@@ -8,7 +8,7 @@ pub fn fmt_num(x: f64) -> String {
 }
 
 /// An interval `[a, b]` with the significant digits that tell its ends
-/// apart: six, or more for a narrow one (one past the digits of its
+/// apart: six, or more for a narrow one (two past the digits of its
 /// relative width), up to 17 (a width of a few ulps).
 pub fn fmt_span([a, b]: [f64; 2]) -> String {
     let size = a.abs().max(b.abs());

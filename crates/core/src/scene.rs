@@ -106,6 +106,26 @@ impl Scene {
         self.joints.iter().position(|j| j.name == name)
     }
 
+    /// Index of the bar joining joints `a` and `b` (either order).
+    pub fn bar_index(&self, a: usize, b: usize) -> Option<usize> {
+        self.bars.iter().position(|bar| bar.joints == [a, b] || bar.joints == [b, a])
+    }
+
+    /// The joints named by `text` as a pair (`B-C`, `B–C`, `B,C` or `B C`), if both exist.
+    pub fn joint_pair(&self, text: &str) -> Option<[usize; 2]> {
+        let names: Vec<&str> = text.split(['-', '–', ' ', ',']).filter(|p| !p.is_empty()).collect();
+        match names[..] {
+            [a, b] => Some([self.joint_index(a)?, self.joint_index(b)?]),
+            _ => None,
+        }
+    }
+
+    /// Bar `i`'s length: stated, else drawn.
+    pub fn bar_length(&self, i: usize) -> f64 {
+        let [a, b] = self.bars[i].joints;
+        self.bars[i].length.unwrap_or_else(|| crate::linkage::dist(self.joints[a].pos, self.joints[b].pos))
+    }
+
     /// Whether any bar states its length (then the drawing is only a sketch).
     pub fn is_sketch(&self) -> bool {
         self.bars.iter().any(|b| b.length.is_some())
