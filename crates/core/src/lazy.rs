@@ -10,9 +10,11 @@
 //! other way from the shared endpoint, until the walk is back at its start.
 //!
 //! Finding the next end: the type is realized in [`Jet`]s (every base distance
-//! with its slope and curvature, O(n)) at samples spaced like the numeric
-//! method's (cosine-spaced from the current end to the edge of the base's
-//! range, dense near both). Between two samples each step's slack is
+//! with its slope and curvature, O(n)) at samples chosen from the jets: each
+//! gap is as long as the slacks' quadratic Taylor models predicted the last
+//! one well (their error grows as the gap cubed), a gap they do not predict
+//! is halved, and no gap is longer than the widest of the numeric method's
+//! cosine-spaced grid. Between two samples each step's slack is
 //! certified to stay positive from its jets: a concave stretch has its
 //! minimum at an end, a convex one lies above both end tangents. Only where
 //! no certificate holds is the step's own minimum (Newton on the slope) or
@@ -41,7 +43,8 @@ use crate::tolerance;
 /// How far the walk may go.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LazyOptions {
-    /// Samples from an interval end to the edge of the base's range.
+    /// No gap between samples is wider than the widest of this many
+    /// cosine-spaced samples from an interval end to the edge of the base's range.
     pub samples: usize,
     /// The walk stops (and says so) after this many intervals.
     pub max_intervals: usize,
@@ -424,28 +427,44 @@ impl<'a, T: Real> Walker<'a, T> {
         let half = T::from_f64(0.5);
         let mut near = Probe { lambda: from.lambda, d: from.d.clone() };
         let mut flat_at_near = entering.to_vec();
-        // The last sample is the range's end itself.
-        let grid = |i: usize| if i == m { far } else { cosine_sample(from.lambda, far, i, m) };
         let finest = T::from_f64(tolerance::ROOT_STEP * self.con.scale);
-        // Samples still to visit, nearest last; refined where the jets disagree.
         let approach = T::from_f64(tolerance::LAZY_APPROACH * self.con.scale);
-        let mut pending: Vec<T> = (1..=m).rev().map(grid).collect();
-        if !entering.is_empty() {
-            // Steps after the entering one behave like square roots next to
-            // `from`: approach it geometrically, where such a slack is well modelled.
-            let first = grid(1);
-            pending.extend(toward(from.lambda, first, approach).into_iter().rev());
-        }
+        // No gap is longer than the widest of `m` cosine-spaced gaps over the
+        // whole stretch (L·sin(π/2m)), nor, away from an entered end, the
+        // first of them; from an entered end (where later steps behave like
+        // square roots) the walk starts at the approach distance.
+        let widest = length * T::from_f64((std::f64::consts::PI / (2.0 * m as f64)).sin());
+        let first = (cosine_sample(from.lambda, far, 1, m) - from.lambda) * dir;
+        let mut step = if entering.is_empty() { first } else { approach };
+        // Halvings still to visit, nearest last.
+        let mut pending: Vec<T> = Vec::new();
         // Probes already made at pending points (kept when a gap is halved).
         let mut made: Vec<Probe<T>> = Vec::new();
         // An end found inside a gap is accepted once the approach to it has
-        // been sampled geometrically as well (later steps behave like square
-        // roots next to it, and their jets say nothing there).
+        // been sampled too (later steps behave like square roots next to it,
+        // and their jets say nothing there): each sample at most 7/8 of the
+        // way to it, down to the approach distance.
         let mut approaching: Option<(T, Vec<Event>)> = None;
-        while let Some(x) = pending.pop() {
+        let ratio = tolerance::APPROACH_RATIO;
+        let last_gap = approach * T::from_f64(ratio);
+        loop {
+            let x = match pending.pop() {
+                Some(x) => x,
+                None if near.lambda == far => break,
+                // The next sample is chosen from how well the jets modelled the last gap.
+                None => {
+                    let target = approaching.as_ref().map_or(far, |(at, _)| *at);
+                    let remaining = (target - near.lambda) * dir;
+                    let reach =
+                        if approaching.is_some() { remaining * T::from_f64(1.0 - 1.0 / ratio) } else { remaining };
+                    let x = near.lambda + dir * if step < reach { step } else { reach };
+                    let to_end = approaching.is_some() && remaining <= last_gap;
+                    if !to_end && between(x, near.lambda, target) { x } else { target }
+                }
+            };
             if (x - near.lambda) * dir <= T::zero() && approaching.as_ref().is_none_or(|(at, _)| *at != x) {
-                // Not beyond the current sample (rounding of a grid point
-                // next to an end): a gap of no width holds no end.
+                // Not beyond the current sample (rounding next to an end):
+                // a gap of no width holds no end.
                 continue;
             }
             let right = match made.last() {
@@ -453,17 +472,26 @@ impl<'a, T: Real> Walker<'a, T> {
                 _ => self.probe(bits, x),
             };
             let mid = (near.lambda + x) * half;
+            let gap = (x - near.lambda) * dir;
+            let model = self.model_error(&near, &right, dir);
+            // A gap within the approach distance of an end the walk entered
+            // by or is approaching is not refined: there the later steps'
+            // jets say nothing (see `tolerance::LAZY_APPROACH`).
+            let at_end =
+                gap <= last_gap && (approaching.as_ref().is_some_and(|(at, _)| *at == x) || !flat_at_near.is_empty());
             // Halve only while the midpoint is a new number (scenes near the
             // bottom of f64's range run out of them before `finest`).
-            if (x - near.lambda).abs() > finest
-                && between(mid, near.lambda, x)
-                && !self.well_sampled(&near, &right, dir)
-            {
+            if !at_end && gap > finest && between(mid, near.lambda, x) && model.is_none_or(|e| e > 1.0) {
                 pending.push(x);
                 pending.push(mid);
                 made.push(right);
                 continue;
             }
+            // The quadratic models' error grows as the gap cubed: aim the
+            // next gap at half the margin, growing at most by the approach ratio.
+            let grow = model.map_or(1.0, |e| (0.5 / e.max(1e-300)).cbrt().clamp(0.25, ratio));
+            let next = gap * T::from_f64(grow);
+            step = if next > widest { widest } else { next };
             let found = self.scan_gap(bits, &near, &right, dir, &flat_at_near);
             let verified = match &approaching {
                 // The last gap before the end being approached: rounding may
@@ -480,8 +508,6 @@ impl<'a, T: Real> Walker<'a, T> {
                     made.clear();
                     // The root's own probe waits at the bottom of the stack, for the last gap.
                     made.extend(self.root_probe.take().filter(|p| p.lambda == lambda));
-                    pending.push(lambda);
-                    pending.extend(toward(lambda, near.lambda, approach));
                     approaching = Some((lambda, events));
                     continue;
                 }
@@ -498,24 +524,27 @@ impl<'a, T: Real> Walker<'a, T> {
         End::Events(far, self.flat_on_base(far))
     }
 
-    /// Whether every slack's quadratic Taylor model from each end of the gap
-    /// predicts its value at the other end to within a quarter of the
-    /// slack's size there. The certificates of [`Self::search`] read the
-    /// shape of a slack from its curvature at the two ends; that holds when
-    /// the gap is short against the slack's variation, which this checks
-    /// (a slack that dips to zero between two samples with the curvature of
-    /// one sign at both ends fails it). A sign change needs no model: the
-    /// root is bracketed, and steps after it are not examined.
-    fn well_sampled(&self, near: &Probe<T>, right: &Probe<T>, dir: T) -> bool {
+    /// How well the gap is sampled: the largest error of a slack's
+    /// quadratic Taylor model from either end of the gap in predicting its
+    /// value at the other, in units of [`tolerance::MODEL_MARGIN`] of the
+    /// slack's size there; `None` when some slack is not certified. The
+    /// gap is well sampled at 1 or less. The certificates of [`Self::search`]
+    /// read the shape of a slack from its curvature at the two ends; that
+    /// holds when the gap is short against the slack's variation, which this
+    /// checks (a slack that dips to zero between two samples with the
+    /// curvature of one sign at both ends fails it). A sign change needs no
+    /// model: the root is bracketed, and steps after it are not examined.
+    fn model_error(&self, near: &Probe<T>, right: &Probe<T>, dir: T) -> Option<f64> {
         let half = T::from_f64(0.5);
         let length = (right.lambda - near.lambda) * dir;
         let coarse = T::from_f64(tolerance::WELL_SAMPLED_COARSE * self.con.scale);
         let n = near.d.len().min(right.d.len());
+        let mut worst = 0.0f64;
         for k in 0..n {
             for &kind in self.kinds(k) {
                 let (s0, s1) = (self.slack(k, kind, near.d[k], dir), self.slack(k, kind, right.d[k], dir));
                 if s1.v <= T::zero() {
-                    return true;
+                    return Some(worst);
                 }
                 if !(finite(&s0) && finite(&s1)) {
                     continue;
@@ -525,17 +554,20 @@ impl<'a, T: Real> Walker<'a, T> {
                 let margin = T::from_f64(tolerance::MODEL_MARGIN)
                     * half
                     * ((if s0.v > T::zero() { s0.v } else { T::zero() }) + s1.v);
-                if (ahead - s1.v).abs() > margin || (back - s0.v).abs() > margin {
-                    return false;
+                let (e1, e0) = ((ahead - s1.v).abs(), (back - s0.v).abs());
+                if e1 > margin || e0 > margin {
+                    return Some(f64::INFINITY);
                 }
+                // (A NaN error is no evidence either way, as it was.)
+                worst = worst.max((if e1 > e0 { e1 } else { e0 } / margin).to_f64());
                 // An uncertified slack is refined by samples of all steps at
                 // once rather than by its own search, down to a short gap.
                 if length > coarse && certify(s0, s1, length) != Shape::NoRoot {
-                    return false;
+                    return None;
                 }
             }
         }
-        true
+        Some(worst)
     }
 
     /// The on-base steps flat at λ when λ is an end of the base's range.
@@ -765,18 +797,4 @@ fn certify<T: Real>(s0: Jet<T>, s1: Jet<T>, length: T) -> Shape {
     let positive =
         if convex0 { s0.d > zero || s0.v + s0.d * length > zero } else { s1.d < zero || s1.v - s1.d * length > zero };
     if positive { Shape::NoRoot } else { Shape::Inflection }
-}
-
-/// Points from `from` toward `end`, ever closer to `end`: end − (end − from)·8^−i
-/// down to a distance `finest`, the nearest to `end` first.
-fn toward<T: Real>(end: T, from: T, finest: T) -> Vec<T> {
-    let mut out = Vec::new();
-    let ratio = T::from_f64(tolerance::APPROACH_RATIO);
-    let mut offset = (from - end) / ratio;
-    while offset.abs() > finest && out.len() < tolerance::APPROACH_MAX_SAMPLES {
-        out.push(end + offset);
-        offset = offset / ratio;
-    }
-    out.reverse();
-    out
 }
