@@ -151,6 +151,7 @@ struct Along<'b, T> {
 
 /// Base-distance jets of every step realized at λ (up to and including the
 /// first that cannot close).
+#[derive(Clone)]
 struct Probe<T> {
     lambda: T,
     d: Vec<Jet<T>>,
@@ -186,6 +187,10 @@ struct Walker<'a, T: Real> {
     /// The probe [`Self::scan_gap`] made at the root it returned last
     /// (the approach to that root ends there: it is not realized twice).
     root_probe: Option<Probe<T>>,
+    /// An end located already, with its flat steps: the last gap of the
+    /// approach to it ends there, and a sign change of those steps' slacks
+    /// in that gap is that end, not a root to locate again.
+    known_end: Option<(T, Vec<Event>)>,
     /// Counted for [`WalkCounts`].
     steps_realized: Cell<usize>,
     roots: Cell<usize>,
@@ -238,6 +243,7 @@ impl<'a, T: Real> Walker<'a, T> {
             notes: Vec::new(),
             kinds: (0..con.steps.len()).map(|k| cert.kinds(k)).collect(),
             root_probe: None,
+            known_end: None,
             steps_realized: Cell::new(0),
             roots: Cell::new(0),
             newton_evaluations: Cell::new(0),
@@ -473,7 +479,10 @@ impl<'a, T: Real> Walker<'a, T> {
             };
             let mid = (near.lambda + x) * half;
             let gap = (x - near.lambda) * dir;
-            let model = self.model_error(&near, &right, dir);
+            let mut ends = Vec::with_capacity(2);
+            ends.extend((!entering.is_empty()).then_some(from.lambda));
+            ends.extend(approaching.as_ref().map(|(at, _)| *at));
+            let model = self.model_error(&near, &right, dir, &ends);
             // A gap within the approach distance of an end the walk entered
             // by or is approaching is not refined: there the later steps'
             // jets say nothing (see `tolerance::LAZY_APPROACH`).
@@ -492,6 +501,7 @@ impl<'a, T: Real> Walker<'a, T> {
             let grow = model.map_or(1.0, |e| (0.5 / e.max(1e-300)).cbrt().clamp(0.25, ratio));
             let next = gap * T::from_f64(grow);
             step = if next > widest { widest } else { next };
+            self.known_end = approaching.clone().filter(|(at, _)| *at == x);
             let found = self.scan_gap(bits, &near, &right, dir, &flat_at_near);
             let verified = match &approaching {
                 // The last gap before the end being approached: rounding may
@@ -534,10 +544,23 @@ impl<'a, T: Real> Walker<'a, T> {
     /// checks (a slack that dips to zero between two samples with the
     /// curvature of one sign at both ends fails it). A sign change needs no
     /// model: the root is bracketed, and steps after it are not examined.
-    fn model_error(&self, near: &Probe<T>, right: &Probe<T>, dir: T) -> Option<f64> {
+    ///
+    /// Next to an end where a step is flat (`ends`: the end the walk entered
+    /// by, the end it approaches), the later steps behave like square roots
+    /// of the distance t to it: there a slack may be modelled as quadratic
+    /// in √t instead (a + b√t + ct, which has no inflection either), and the
+    /// better of the models counts.
+    fn model_error(&self, near: &Probe<T>, right: &Probe<T>, dir: T, ends: &[T]) -> Option<f64> {
         let half = T::from_f64(0.5);
         let length = (right.lambda - near.lambda) * dir;
         let coarse = T::from_f64(tolerance::WELL_SAMPLED_COARSE * self.con.scale);
+        // Distances to each end at the gap's two ends, if the gap lies on one side of it.
+        let beside: Vec<(T, T)> = ends
+            .iter()
+            .filter(|&&e| !between(e, near.lambda, right.lambda))
+            .map(|&e| ((near.lambda - e).abs(), (right.lambda - e).abs()))
+            .filter(|&(t0, t1)| t0 > T::zero() && t1 > T::zero())
+            .collect();
         let n = near.d.len().min(right.d.len());
         let mut worst = 0.0f64;
         for k in 0..n {
@@ -549,17 +572,21 @@ impl<'a, T: Real> Walker<'a, T> {
                 if !(finite(&s0) && finite(&s1)) {
                     continue;
                 }
-                let ahead = s0.v + s0.d * length + half * s0.s * length * length;
-                let back = s1.v - s1.d * length + half * s1.s * length * length;
                 let margin = T::from_f64(tolerance::MODEL_MARGIN)
                     * half
                     * ((if s0.v > T::zero() { s0.v } else { T::zero() }) + s1.v);
-                let (e1, e0) = ((ahead - s1.v).abs(), (back - s0.v).abs());
-                if e1 > margin || e0 > margin {
+                let mut misfit = quadratic_misfit(s0, s1, length);
+                for &(t0, t1) in &beside {
+                    let m = root_misfit(s0, s1, t0, t1);
+                    if m < misfit {
+                        misfit = m;
+                    }
+                }
+                // (A NaN misfit is no evidence either way.)
+                if misfit > margin {
                     return Some(f64::INFINITY);
                 }
-                // (A NaN error is no evidence either way, as it was.)
-                worst = worst.max((if e1 > e0 { e1 } else { e0 } / margin).to_f64());
+                worst = worst.max((misfit / margin).to_f64());
                 // An uncertified slack is refined by samples of all steps at
                 // once rather than by its own search, down to a short gap.
                 if length > coarse && certify(s0, s1, length) != Shape::NoRoot {
@@ -638,7 +665,8 @@ impl<'a, T: Real> Walker<'a, T> {
                     events.push(event);
                 } else {
                     events = vec![event];
-                    shrunk = Some(self.probe(bits, root));
+                    // A root at the gap's far end has its probe there already.
+                    shrunk = Some(if root == right.lambda { right.clone() } else { self.probe(bits, root) });
                 }
             }
         }
@@ -661,7 +689,9 @@ impl<'a, T: Real> Walker<'a, T> {
         } else if s1.v == zero {
             return Some(b);
         } else if s1.v < zero {
-            return Some(self.locate(along, a, (b, s1)));
+            let event = Event { step: along.k, kind: along.kind };
+            let known = self.known_end.as_ref().is_some_and(|(at, events)| *at == b && events.contains(&event));
+            return Some(if known { b } else { self.locate(along, a, (b, s1)) });
         }
         let clamp = |s: Jet<T>| Jet { v: if s.v < zero { zero } else { s.v }, ..s };
         let (s0, s1) = (clamp(s0), clamp(s1));
@@ -771,6 +801,32 @@ enum Shape {
     Convex,
     /// Its curvature changes sign and the bounds do not decide.
     Inflection,
+}
+
+/// How far a slack's quadratic Taylor models from each end of a gap of
+/// `length` miss its value at the other end (jets `s0`, `s1`, slopes along
+/// the gap): the larger miss.
+fn quadratic_misfit<T: Real>(s0: Jet<T>, s1: Jet<T>, length: T) -> T {
+    let half = T::from_f64(0.5);
+    let ahead = s0.v + s0.d * length + half * s0.s * length * length;
+    let back = s1.v - s1.d * length + half * s1.s * length * length;
+    let (e1, e0) = ((ahead - s1.v).abs(), (back - s0.v).abs());
+    if e1 > e0 || e0.to_f64().is_nan() { e1 } else { e0 }
+}
+
+/// [`quadratic_misfit`] of the models in u = √t, t the distance to an end
+/// (t0, t1 > 0 at the gap's ends, on one side of it): with t′ = ±1 along
+/// the gap, s_u = 2u·s_t and s_uu = 4t·s_tt + 2s_t.
+fn root_misfit<T: Real>(s0: Jet<T>, s1: Jet<T>, t0: T, t1: T) -> T {
+    let (two, four) = (T::from_f64(2.0), T::from_f64(4.0));
+    // Slopes in t: along the gap when it leads away from the end.
+    let away = if t1 > t0 { T::from_f64(1.0) } else { T::from_f64(-1.0) };
+    let (u0, u1) = (t0.sqrt(), t1.sqrt());
+    let in_u = |s: Jet<T>, t: T, u: T| {
+        let st = s.d * away;
+        Jet { v: s.v, d: two * u * st, s: four * t * s.s + two * st }
+    };
+    quadratic_misfit(in_u(s0, t0, u0), in_u(s1, t1, u1), u1 - u0)
 }
 
 /// Certify a slack over a gap of `length` from its jets `s0`, `s1` at the
