@@ -36,7 +36,8 @@ use crate::realize::{Construction, Event, Kind, RealizationType, Unrealizable};
 use std::cell::Cell;
 
 use crate::roots::{
-    Endpoint, EndpointIds, Extremum, base_distance_jet, between, cmp, cosine_sample, newton, newton_seeded, side_signs,
+    Endpoint, EndpointIds, Extremum, base_distance_jet, between, cmp, cosine_sample, newton, newton_from,
+    newton_seeded, side_signs,
 };
 use crate::tolerance;
 
@@ -642,12 +643,31 @@ impl<'a, T: Real> Walker<'a, T> {
         // Once a root is found, the gap ends there: later steps are examined up to it.
         let mut shrunk: Option<Probe<T>> = None;
         let mut events: Vec<Event> = Vec::new();
+        // The plain sign change predicted first (from the slopes at the far
+        // end) is located first: the other steps are then examined up to
+        // it, and most never need a root of their own.
+        let first = self.first_crossing(near, right, dir, flat_at_near);
+        // The step (and kind) whose root the gap ends at: steps after it behave
+        // like square roots there.
+        let mut ends_at: Option<(usize, usize)> = None;
+        if let Some((k, i)) = first {
+            let kind = self.kinds(k)[i];
+            let s1 = self.slack(k, kind, right.d[k], dir);
+            let s0 = self.slack(k, kind, near.d[k], dir);
+            let root = self.crossing(Along { bits, k, kind, dir }, (near.lambda, s0.v), (right.lambda, s1));
+            events = vec![Event { step: k, kind }];
+            shrunk = Some(if root == right.lambda { right.clone() } else { self.probe(bits, root) });
+            ends_at = Some((k, i));
+        }
         for k in 0..self.con.steps.len() {
             let far = shrunk.as_ref().unwrap_or(right);
             if k >= far.d.len() || k >= near.d.len() {
                 break; // the prefix fails with no step flat: the caller reports it
             }
-            for &kind in self.kinds(k) {
+            for (i, &kind) in self.kinds(k).iter().enumerate() {
+                if first == Some((k, i)) {
+                    continue;
+                }
                 let far = shrunk.as_ref().unwrap_or(right);
                 let s0 = self.slack(k, kind, near.d[k], dir);
                 let s1 = self.slack(k, kind, far.d[k], dir);
@@ -655,7 +675,7 @@ impl<'a, T: Real> Walker<'a, T> {
                 // Past a root found in this gap, later steps behave like square
                 // roots at its end: only their values count here (the caller
                 // samples the approach to that root).
-                let s1 = if shrunk.is_some() { Jet { d: T::from_f64(f64::NAN), ..s1 } } else { s1 };
+                let s1 = if ends_at.is_some_and(|e| (k, i) > e) { Jet { d: T::from_f64(f64::NAN), ..s1 } } else { s1 };
                 let along = Along { bits, k, kind, dir };
                 let Some(root) = self.first_root(along, (near.lambda, s0), (far.lambda, s1), entering) else {
                     continue;
@@ -667,12 +687,58 @@ impl<'a, T: Real> Walker<'a, T> {
                     events = vec![event];
                     // A root at the gap's far end has its probe there already.
                     shrunk = Some(if root == right.lambda { right.clone() } else { self.probe(bits, root) });
+                    ends_at = Some((k, i));
                 }
             }
         }
         let found = shrunk.as_ref().map(|p| (p.lambda, events));
         self.root_probe = shrunk;
         found
+    }
+
+    /// The step and kind (its index in [`Self::kinds`]) whose slack changes
+    /// sign in the gap (near, right] first as predicted by a Newton step back
+    /// from `right` (or the chord where that leaves the gap), among the
+    /// plain sign changes: positive just beyond `near`, negative at `right`
+    /// and not rounding at a tangency. `None` without one.
+    fn first_crossing(
+        &self,
+        near: &Probe<T>,
+        right: &Probe<T>,
+        dir: T,
+        flat_at_near: &[Event],
+    ) -> Option<(usize, usize)> {
+        let length = (right.lambda - near.lambda) * dir;
+        let n = near.d.len().min(right.d.len());
+        let mut best: Option<((usize, usize), T)> = None;
+        for k in 0..n {
+            for (i, &kind) in self.kinds(k).iter().enumerate() {
+                let s1 = self.slack(k, kind, right.d[k], dir);
+                if !(s1.v < T::zero()) || self.rounding_at_tangency(s1) {
+                    continue;
+                }
+                let s0 = self.slack(k, kind, near.d[k], dir);
+                if !self.closes_beyond(s0, flat_at_near.contains(&Event { step: k, kind })) {
+                    return None; // a root at `near` itself: the ordinary scan finds it
+                }
+                let back = length - s1.v / s1.d;
+                let chord = if s0.v > T::zero() { length * s0.v / (s0.v - s1.v) } else { T::zero() };
+                let at = if back > T::zero() && back < length { back } else { chord };
+                if best.as_ref().is_none_or(|(_, b)| at < *b) {
+                    best = Some(((k, i), at));
+                }
+            }
+        }
+        best.map(|(e, _)| e)
+    }
+
+    /// The root of a slack positive at a and negative at b: b itself when
+    /// it is the end the walk approaches and this step is flat there
+    /// ([`Self::known_end`]), else located by [`Self::locate`].
+    fn crossing(&self, along: Along<T>, (a, va): (T, T), (b, s1): (T, Jet<T>)) -> T {
+        let event = Event { step: along.k, kind: along.kind };
+        let known = self.known_end.as_ref().is_some_and(|(at, events)| *at == b && events.contains(&event));
+        if known { b } else { self.locate(along, (a, va), (b, s1)) }
     }
 
     /// The first λ in (a, b] (walking in `dir`) where step k's slack for
@@ -689,9 +755,7 @@ impl<'a, T: Real> Walker<'a, T> {
         } else if s1.v == zero {
             return Some(b);
         } else if s1.v < zero {
-            let event = Event { step: along.k, kind: along.kind };
-            let known = self.known_end.as_ref().is_some_and(|(at, events)| *at == b && events.contains(&event));
-            return Some(if known { b } else { self.locate(along, a, (b, s1)) });
+            return Some(self.crossing(along, (a, s0.v), (b, s1)));
         }
         let clamp = |s: Jet<T>| Jet { v: if s.v < zero { zero } else { s.v }, ..s };
         let (s0, s1) = (clamp(s0), clamp(s1));
@@ -742,7 +806,7 @@ impl<'a, T: Real> Walker<'a, T> {
                     return self.through_minimum(along, a, b);
                 }
                 if sc.v <= T::zero() {
-                    return Some(self.locate(along, a, (c, sc)));
+                    return Some(self.locate(along, (a, s0.v), (c, sc)));
                 }
                 self.search(along, (a, s0), (c, sc), depth + 1)
                     .or_else(|| self.search(along, (c, sc), (b, s1), depth + 1))
@@ -774,17 +838,24 @@ impl<'a, T: Real> Walker<'a, T> {
                 }
                 None
             }
-            Extremum::Below => Some(self.locate(along, a, (m, sm))),
+            Extremum::Below => Some(self.locate(along, (a, sa.v), (m, sm))),
         }
     }
 
-    /// The root of step k's slack between a (slack > 0) and b (≤ 0), where
-    /// the slack's jet `sb` (slope along the walk) is already known: the
-    /// first Newton step is taken from b (often a root found already, or
-    /// next to one), at no cost.
-    fn locate(&self, along: Along<T>, a: T, (b, sb): (T, Jet<T>)) -> T {
-        let seed = finite(&sb).then_some((b, sb.v, sb.d * along.dir));
-        let run = newton_seeded(a, b, seed, |x| self.slack_slope_at(along, x).map(|(v, d)| (v, d * along.dir)));
+    /// The root of step k's slack between a (slack `va` > 0) and b (≤ 0),
+    /// where the slack's jet `sb` (slope along the walk) is already known:
+    /// the first Newton step is taken from b (often a root found already, or
+    /// next to one), at no cost. Without a slope at b (b is an end where an
+    /// earlier step is flat, and the slack behaves like va′ + c√|b − λ|
+    /// there) the first evaluation is at that model's root.
+    fn locate(&self, along: Along<T>, (a, va): (T, T), (b, sb): (T, Jet<T>)) -> T {
+        let f = |x| self.slack_slope_at(along, x).map(|(v, d)| (v, d * along.dir));
+        let run = if finite(&sb) {
+            newton_seeded(a, b, Some((b, sb.v, sb.d * along.dir)), f)
+        } else {
+            let r = sb.v / (va - sb.v);
+            newton_from(a, b, b + (a - b) * r * r, f)
+        };
         self.roots.set(self.roots.get() + 1);
         self.newton_evaluations.set(self.newton_evaluations.get() + run.evaluations);
         run.root

@@ -179,9 +179,26 @@ pub struct NewtonRun<T> {
 /// bracket's evaluated ends is tried (one more evaluation), and the point of
 /// least |g| seen is returned.
 pub fn newton_seeded<T: Real>(a: T, b: T, seed: Option<(T, T, T)>, f: impl Fn(T) -> Option<(T, T)>) -> NewtonRun<T> {
+    newton_run(a, b, seed, None, f)
+}
+
+/// [`newton`] with its first evaluation at `start` (strictly inside the
+/// bracket; else at the midpoint): a guess from what is known of g without
+/// its derivative.
+pub fn newton_from<T: Real>(a: T, b: T, start: T, f: impl Fn(T) -> Option<(T, T)>) -> NewtonRun<T> {
+    newton_run(a, b, None, Some(start).filter(|&s| between(s, a, b)), f)
+}
+
+fn newton_run<T: Real>(
+    a: T,
+    b: T,
+    seed: Option<(T, T, T)>,
+    start: Option<T>,
+    f: impl Fn(T) -> Option<(T, T)>,
+) -> NewtonRun<T> {
     let (mut pos, mut neg) = (a, b);
     let two = T::from_f64(2.0);
-    let mut x = (a + b) / two;
+    let mut x = start.unwrap_or((a + b) / two);
     let mut best = (x, T::from_f64(f64::INFINITY));
     let mut evaluations = 0;
     let converged = T::from_f64(tolerance::NEWTON_CONVERGED_ULPS * T::UNIT_ROUNDOFF);
