@@ -714,7 +714,7 @@ impl<'a, T: Real> Walker<'a, T> {
         for k in 0..n {
             for (i, &kind) in self.kinds(k).iter().enumerate() {
                 let s1 = self.slack(k, kind, right.d[k], dir);
-                if !(s1.v < T::zero()) || self.rounding_at_tangency(s1) {
+                if s1.v.partial_cmp(&T::zero()) != Some(std::cmp::Ordering::Less) || self.rounding_at_tangency(s1) {
                     continue;
                 }
                 let s0 = self.slack(k, kind, near.d[k], dir);
