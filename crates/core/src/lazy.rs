@@ -437,12 +437,16 @@ impl<'a, T: Real> Walker<'a, T> {
         let finest = T::from_f64(tolerance::ROOT_STEP * self.con.scale);
         let approach = T::from_f64(tolerance::LAZY_APPROACH * self.con.scale);
         // No gap is longer than the widest of `m` cosine-spaced gaps over the
-        // whole stretch (L·sin(π/2m)), nor, away from an entered end, the
-        // first of them; from an entered end (where later steps behave like
-        // square roots) the walk starts at the approach distance.
+        // whole stretch (L·sin(π/2m)). The first is the first of them, or,
+        // from an entered end (where later steps behave like square roots),
+        // the approach ratio times the approach distance (as far out as the
+        // grid's geometric approach to it began).
+        let ratio = tolerance::APPROACH_RATIO;
+        // Within this of an end, the later steps' jets say nothing: such a gap is not refined.
+        let last_gap = approach * T::from_f64(ratio);
         let widest = length * T::from_f64((std::f64::consts::PI / (2.0 * m as f64)).sin());
         let first = (cosine_sample(from.lambda, far, 1, m) - from.lambda) * dir;
-        let mut step = if entering.is_empty() { first } else { approach };
+        let mut step = if entering.is_empty() { first } else { last_gap };
         // Halvings still to visit, nearest last.
         let mut pending: Vec<T> = Vec::new();
         // Probes already made at pending points (kept when a gap is halved).
@@ -452,8 +456,6 @@ impl<'a, T: Real> Walker<'a, T> {
         // and their jets say nothing there): each sample at most 7/8 of the
         // way to it, down to the approach distance.
         let mut approaching: Option<(T, Vec<Event>)> = None;
-        let ratio = tolerance::APPROACH_RATIO;
-        let last_gap = approach * T::from_f64(ratio);
         loop {
             let x = match pending.pop() {
                 Some(x) => x,
@@ -498,8 +500,18 @@ impl<'a, T: Real> Walker<'a, T> {
                 continue;
             }
             // The quadratic models' error grows as the gap cubed: aim the
-            // next gap at half the margin, growing at most by the approach ratio.
-            let grow = model.map_or(1.0, |e| (0.5 / e.max(1e-300)).cbrt().clamp(0.25, ratio));
+            // next gap at half the margin. Next to an end the slacks vary on
+            // the scale of the distance t to it, so the gap also scales with
+            // t (the last gap's error recurs at the same gap/t). At most the
+            // approach ratio, and that much after a gap at an end.
+            let distance = |l: T| ends.iter().map(|&e| (l - e).abs().to_f64()).fold(f64::INFINITY, f64::min);
+            let (t0, t1) = (distance(near.lambda), distance(x));
+            let relative = if t0 > 0.0 && t1.is_finite() { t1 / t0 } else { 1.0 };
+            let grow = match model {
+                _ if at_end => ratio,
+                Some(e) => ((0.5 / e.max(1e-300)).cbrt() * relative).clamp(0.25, ratio),
+                None => 1.0,
+            };
             let next = gap * T::from_f64(grow);
             step = if next > widest { widest } else { next };
             self.known_end = approaching.clone().filter(|(at, _)| *at == x);
