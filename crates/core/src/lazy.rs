@@ -26,7 +26,8 @@
 //! Guarantee: the numeric method's (see `numeric_roots` in
 //! [`crate::cayley_space`](mod@crate::cayley_space)): every end is found unless a gap between samples
 //! holds two inflections of one slack; a near-double root is a tangency and is
-//! noted. Cost: O(samples · n) per interval visited, plus O(k) per Newton
+//! noted. Cost: O(n) per sample (at least 2·samples/π of them per interval
+//! visited, more where the jets ask for them), plus O(k) per Newton
 //! iteration on step k; nothing is exponential in the depth.
 
 use crate::cayley_space::{CayleySpace, Method, Note, OrientedInterval};
