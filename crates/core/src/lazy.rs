@@ -10,9 +10,11 @@
 //! other way from the shared endpoint, until the walk is back at its start.
 //!
 //! Finding the next end: the type is realized in [`Jet`]s (every base distance
-//! with its slope and curvature, O(n)) at samples spaced like the numeric
-//! method's (cosine-spaced from the current end to the edge of the base's
-//! range, dense near both). Between two samples each step's slack is
+//! with its slope and curvature, O(n)) at samples chosen from the jets: each
+//! gap is as long as the slacks' quadratic Taylor models predicted the last
+//! one well (their error grows as the gap cubed), a gap they do not predict
+//! is halved, and no gap is longer than the widest of the numeric method's
+//! cosine-spaced grid. Between two samples each step's slack is
 //! certified to stay positive from its jets: a concave stretch has its
 //! minimum at an end, a convex one lies above both end tangents. Only where
 //! no certificate holds is the step's own minimum (Newton on the slope) or
@@ -24,7 +26,8 @@
 //! Guarantee: the numeric method's (see `numeric_roots` in
 //! [`crate::cayley_space`](mod@crate::cayley_space)): every end is found unless a gap between samples
 //! holds two inflections of one slack; a near-double root is a tangency and is
-//! noted. Cost: O(samples · n) per interval visited, plus O(k) per Newton
+//! noted. Cost: O(n) per sample (at least 2·samples/π of them per interval
+//! visited, more where the jets ask for them), plus O(k) per Newton
 //! iteration on step k; nothing is exponential in the depth.
 
 use crate::cayley_space::{CayleySpace, Method, Note, OrientedInterval};
@@ -34,14 +37,16 @@ use crate::realize::{Construction, Event, Kind, RealizationType, Unrealizable};
 use std::cell::Cell;
 
 use crate::roots::{
-    Endpoint, EndpointIds, Extremum, base_distance_jet, between, cmp, cosine_sample, newton, newton_seeded, side_signs,
+    Endpoint, EndpointIds, Extremum, base_distance_jet, between, cmp, cosine_sample, newton, newton_from,
+    newton_seeded, side_signs,
 };
 use crate::tolerance;
 
 /// How far the walk may go.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LazyOptions {
-    /// Samples from an interval end to the edge of the base's range.
+    /// No gap between samples is wider than the widest of this many
+    /// cosine-spaced samples from an interval end to the edge of the base's range.
     pub samples: usize,
     /// The walk stops (and says so) after this many intervals.
     pub max_intervals: usize,
@@ -148,6 +153,7 @@ struct Along<'b, T> {
 
 /// Base-distance jets of every step realized at λ (up to and including the
 /// first that cannot close).
+#[derive(Clone)]
 struct Probe<T> {
     lambda: T,
     d: Vec<Jet<T>>,
@@ -183,6 +189,10 @@ struct Walker<'a, T: Real> {
     /// The probe [`Self::scan_gap`] made at the root it returned last
     /// (the approach to that root ends there: it is not realized twice).
     root_probe: Option<Probe<T>>,
+    /// An end located already, with its flat steps: the last gap of the
+    /// approach to it ends there, and a sign change of those steps' slacks
+    /// in that gap is that end, not a root to locate again.
+    known_end: Option<(T, Vec<Event>)>,
     /// Counted for [`WalkCounts`].
     steps_realized: Cell<usize>,
     roots: Cell<usize>,
@@ -235,6 +245,7 @@ impl<'a, T: Real> Walker<'a, T> {
             notes: Vec::new(),
             kinds: (0..con.steps.len()).map(|k| cert.kinds(k)).collect(),
             root_probe: None,
+            known_end: None,
             steps_realized: Cell::new(0),
             roots: Cell::new(0),
             newton_evaluations: Cell::new(0),
@@ -424,28 +435,46 @@ impl<'a, T: Real> Walker<'a, T> {
         let half = T::from_f64(0.5);
         let mut near = Probe { lambda: from.lambda, d: from.d.clone() };
         let mut flat_at_near = entering.to_vec();
-        // The last sample is the range's end itself.
-        let grid = |i: usize| if i == m { far } else { cosine_sample(from.lambda, far, i, m) };
         let finest = T::from_f64(tolerance::ROOT_STEP * self.con.scale);
-        // Samples still to visit, nearest last; refined where the jets disagree.
         let approach = T::from_f64(tolerance::LAZY_APPROACH * self.con.scale);
-        let mut pending: Vec<T> = (1..=m).rev().map(grid).collect();
-        if !entering.is_empty() {
-            // Steps after the entering one behave like square roots next to
-            // `from`: approach it geometrically, where such a slack is well modelled.
-            let first = grid(1);
-            pending.extend(toward(from.lambda, first, approach).into_iter().rev());
-        }
+        // No gap is longer than the widest of `m` cosine-spaced gaps over the
+        // whole stretch (L·sin(π/2m)). The first is the first of them, or,
+        // from an entered end (where later steps behave like square roots),
+        // the approach ratio times the approach distance (as far out as the
+        // grid's geometric approach to it began).
+        let ratio = tolerance::APPROACH_RATIO;
+        // Within this of an end, the later steps' jets say nothing: such a gap is not refined.
+        let last_gap = approach * T::from_f64(ratio);
+        let widest = length * T::from_f64((std::f64::consts::PI / (2.0 * m as f64)).sin());
+        let first = (cosine_sample(from.lambda, far, 1, m) - from.lambda) * dir;
+        let mut step = if entering.is_empty() { first } else { last_gap };
+        // Halvings still to visit, nearest last.
+        let mut pending: Vec<T> = Vec::new();
         // Probes already made at pending points (kept when a gap is halved).
         let mut made: Vec<Probe<T>> = Vec::new();
         // An end found inside a gap is accepted once the approach to it has
-        // been sampled geometrically as well (later steps behave like square
-        // roots next to it, and their jets say nothing there).
+        // been sampled too (later steps behave like square roots next to it,
+        // and their jets say nothing there): each sample at most 7/8 of the
+        // way to it, down to the approach distance.
         let mut approaching: Option<(T, Vec<Event>)> = None;
-        while let Some(x) = pending.pop() {
+        loop {
+            let x = match pending.pop() {
+                Some(x) => x,
+                None if near.lambda == far => break,
+                // The next sample is chosen from how well the jets modelled the last gap.
+                None => {
+                    let target = approaching.as_ref().map_or(far, |(at, _)| *at);
+                    let remaining = (target - near.lambda) * dir;
+                    let reach =
+                        if approaching.is_some() { remaining * T::from_f64(1.0 - 1.0 / ratio) } else { remaining };
+                    let x = near.lambda + dir * if step < reach { step } else { reach };
+                    let to_end = approaching.is_some() && remaining <= last_gap;
+                    if !to_end && between(x, near.lambda, target) { x } else { target }
+                }
+            };
             if (x - near.lambda) * dir <= T::zero() && approaching.as_ref().is_none_or(|(at, _)| *at != x) {
-                // Not beyond the current sample (rounding of a grid point
-                // next to an end): a gap of no width holds no end.
+                // Not beyond the current sample (rounding next to an end):
+                // a gap of no width holds no end.
                 continue;
             }
             let right = match made.last() {
@@ -453,17 +482,40 @@ impl<'a, T: Real> Walker<'a, T> {
                 _ => self.probe(bits, x),
             };
             let mid = (near.lambda + x) * half;
+            let gap = (x - near.lambda) * dir;
+            let mut ends = Vec::with_capacity(2);
+            ends.extend((!entering.is_empty()).then_some(from.lambda));
+            ends.extend(approaching.as_ref().map(|(at, _)| *at));
+            let model = self.model_error(&near, &right, dir, &ends);
+            // A gap within the approach distance of an end the walk entered
+            // by or is approaching is not refined: there the later steps'
+            // jets say nothing (see `tolerance::LAZY_APPROACH`).
+            let at_end =
+                gap <= last_gap && (approaching.as_ref().is_some_and(|(at, _)| *at == x) || !flat_at_near.is_empty());
             // Halve only while the midpoint is a new number (scenes near the
             // bottom of f64's range run out of them before `finest`).
-            if (x - near.lambda).abs() > finest
-                && between(mid, near.lambda, x)
-                && !self.well_sampled(&near, &right, dir)
-            {
+            if !at_end && gap > finest && between(mid, near.lambda, x) && model.is_none_or(|e| e > 1.0) {
                 pending.push(x);
                 pending.push(mid);
                 made.push(right);
                 continue;
             }
+            // The quadratic models' error grows as the gap cubed: aim the
+            // next gap at half the margin. Next to an end the slacks vary on
+            // the scale of the distance t to it, so the gap also scales with
+            // t (the last gap's error recurs at the same gap/t). At most the
+            // approach ratio, and that much after a gap at an end.
+            let distance = |l: T| ends.iter().map(|&e| (l - e).abs().to_f64()).fold(f64::INFINITY, f64::min);
+            let (t0, t1) = (distance(near.lambda), distance(x));
+            let relative = if t0 > 0.0 && t1.is_finite() { t1 / t0 } else { 1.0 };
+            let grow = match model {
+                _ if at_end => ratio,
+                Some(e) => ((0.5 / e.max(1e-300)).cbrt() * relative).clamp(0.25, ratio),
+                None => 1.0,
+            };
+            let next = gap * T::from_f64(grow);
+            step = if next > widest { widest } else { next };
+            self.known_end = approaching.clone().filter(|(at, _)| *at == x);
             let found = self.scan_gap(bits, &near, &right, dir, &flat_at_near);
             let verified = match &approaching {
                 // The last gap before the end being approached: rounding may
@@ -480,8 +532,6 @@ impl<'a, T: Real> Walker<'a, T> {
                     made.clear();
                     // The root's own probe waits at the bottom of the stack, for the last gap.
                     made.extend(self.root_probe.take().filter(|p| p.lambda == lambda));
-                    pending.push(lambda);
-                    pending.extend(toward(lambda, near.lambda, approach));
                     approaching = Some((lambda, events));
                     continue;
                 }
@@ -498,44 +548,67 @@ impl<'a, T: Real> Walker<'a, T> {
         End::Events(far, self.flat_on_base(far))
     }
 
-    /// Whether every slack's quadratic Taylor model from each end of the gap
-    /// predicts its value at the other end to within a quarter of the
-    /// slack's size there. The certificates of [`Self::search`] read the
-    /// shape of a slack from its curvature at the two ends; that holds when
-    /// the gap is short against the slack's variation, which this checks
-    /// (a slack that dips to zero between two samples with the curvature of
-    /// one sign at both ends fails it). A sign change needs no model: the
-    /// root is bracketed, and steps after it are not examined.
-    fn well_sampled(&self, near: &Probe<T>, right: &Probe<T>, dir: T) -> bool {
+    /// How well the gap is sampled: the largest error of a slack's
+    /// quadratic Taylor model from either end of the gap in predicting its
+    /// value at the other, in units of [`tolerance::MODEL_MARGIN`] of the
+    /// slack's size there; `None` when some slack is not certified. The
+    /// gap is well sampled at 1 or less. The certificates of [`Self::search`]
+    /// read the shape of a slack from its curvature at the two ends; that
+    /// holds when the gap is short against the slack's variation, which this
+    /// checks (a slack that dips to zero between two samples with the
+    /// curvature of one sign at both ends fails it). A sign change needs no
+    /// model: the root is bracketed, and steps after it are not examined.
+    ///
+    /// Next to an end where a step is flat (`ends`: the end the walk entered
+    /// by, the end it approaches), the later steps behave like square roots
+    /// of the distance t to it: there a slack may be modelled as quadratic
+    /// in √t instead (a + b√t + ct, which has no inflection either), and the
+    /// better of the models counts.
+    fn model_error(&self, near: &Probe<T>, right: &Probe<T>, dir: T, ends: &[T]) -> Option<f64> {
         let half = T::from_f64(0.5);
         let length = (right.lambda - near.lambda) * dir;
         let coarse = T::from_f64(tolerance::WELL_SAMPLED_COARSE * self.con.scale);
+        // Distances to each end at the gap's two ends, if the gap lies on one side of it.
+        let beside: Vec<(T, T)> = ends
+            .iter()
+            .filter(|&&e| !between(e, near.lambda, right.lambda))
+            .map(|&e| ((near.lambda - e).abs(), (right.lambda - e).abs()))
+            .filter(|&(t0, t1)| t0 > T::zero() && t1 > T::zero())
+            .collect();
         let n = near.d.len().min(right.d.len());
+        let mut worst = 0.0f64;
         for k in 0..n {
             for &kind in self.kinds(k) {
                 let (s0, s1) = (self.slack(k, kind, near.d[k], dir), self.slack(k, kind, right.d[k], dir));
                 if s1.v <= T::zero() {
-                    return true;
+                    return Some(worst);
                 }
                 if !(finite(&s0) && finite(&s1)) {
                     continue;
                 }
-                let ahead = s0.v + s0.d * length + half * s0.s * length * length;
-                let back = s1.v - s1.d * length + half * s1.s * length * length;
                 let margin = T::from_f64(tolerance::MODEL_MARGIN)
                     * half
                     * ((if s0.v > T::zero() { s0.v } else { T::zero() }) + s1.v);
-                if (ahead - s1.v).abs() > margin || (back - s0.v).abs() > margin {
-                    return false;
+                let mut misfit = quadratic_misfit(s0, s1, length);
+                for &(t0, t1) in &beside {
+                    let m = root_misfit(s0, s1, t0, t1);
+                    if m < misfit {
+                        misfit = m;
+                    }
                 }
+                // (A NaN misfit is no evidence either way.)
+                if misfit > margin {
+                    return Some(f64::INFINITY);
+                }
+                worst = worst.max((misfit / margin).to_f64());
                 // An uncertified slack is refined by samples of all steps at
                 // once rather than by its own search, down to a short gap.
                 if length > coarse && certify(s0, s1, length) != Shape::NoRoot {
-                    return false;
+                    return None;
                 }
             }
         }
-        true
+        Some(worst)
     }
 
     /// The on-base steps flat at λ when λ is an end of the base's range.
@@ -583,12 +656,31 @@ impl<'a, T: Real> Walker<'a, T> {
         // Once a root is found, the gap ends there: later steps are examined up to it.
         let mut shrunk: Option<Probe<T>> = None;
         let mut events: Vec<Event> = Vec::new();
+        // The plain sign change predicted first (from the slopes at the far
+        // end) is located first: the other steps are then examined up to
+        // it, and most never need a root of their own.
+        let first = self.first_crossing(near, right, dir, flat_at_near);
+        // The step (and kind) whose root the gap ends at: steps after it behave
+        // like square roots there.
+        let mut ends_at: Option<(usize, usize)> = None;
+        if let Some((k, i)) = first {
+            let kind = self.kinds(k)[i];
+            let s1 = self.slack(k, kind, right.d[k], dir);
+            let s0 = self.slack(k, kind, near.d[k], dir);
+            let root = self.crossing(Along { bits, k, kind, dir }, (near.lambda, s0.v), (right.lambda, s1));
+            events = vec![Event { step: k, kind }];
+            shrunk = Some(if root == right.lambda { right.clone() } else { self.probe(bits, root) });
+            ends_at = Some((k, i));
+        }
         for k in 0..self.con.steps.len() {
             let far = shrunk.as_ref().unwrap_or(right);
             if k >= far.d.len() || k >= near.d.len() {
                 break; // the prefix fails with no step flat: the caller reports it
             }
-            for &kind in self.kinds(k) {
+            for (i, &kind) in self.kinds(k).iter().enumerate() {
+                if first == Some((k, i)) {
+                    continue;
+                }
                 let far = shrunk.as_ref().unwrap_or(right);
                 let s0 = self.slack(k, kind, near.d[k], dir);
                 let s1 = self.slack(k, kind, far.d[k], dir);
@@ -596,7 +688,7 @@ impl<'a, T: Real> Walker<'a, T> {
                 // Past a root found in this gap, later steps behave like square
                 // roots at its end: only their values count here (the caller
                 // samples the approach to that root).
-                let s1 = if shrunk.is_some() { Jet { d: T::from_f64(f64::NAN), ..s1 } } else { s1 };
+                let s1 = if ends_at.is_some_and(|e| (k, i) > e) { Jet { d: T::from_f64(f64::NAN), ..s1 } } else { s1 };
                 let along = Along { bits, k, kind, dir };
                 let Some(root) = self.first_root(along, (near.lambda, s0), (far.lambda, s1), entering) else {
                     continue;
@@ -606,13 +698,60 @@ impl<'a, T: Real> Walker<'a, T> {
                     events.push(event);
                 } else {
                     events = vec![event];
-                    shrunk = Some(self.probe(bits, root));
+                    // A root at the gap's far end has its probe there already.
+                    shrunk = Some(if root == right.lambda { right.clone() } else { self.probe(bits, root) });
+                    ends_at = Some((k, i));
                 }
             }
         }
         let found = shrunk.as_ref().map(|p| (p.lambda, events));
         self.root_probe = shrunk;
         found
+    }
+
+    /// The step and kind (its index in [`Self::kinds`]) whose slack changes
+    /// sign in the gap (near, right] first as predicted by a Newton step back
+    /// from `right` (or the chord where that leaves the gap), among the
+    /// plain sign changes: positive just beyond `near`, negative at `right`
+    /// and not rounding at a tangency. `None` without one.
+    fn first_crossing(
+        &self,
+        near: &Probe<T>,
+        right: &Probe<T>,
+        dir: T,
+        flat_at_near: &[Event],
+    ) -> Option<(usize, usize)> {
+        let length = (right.lambda - near.lambda) * dir;
+        let n = near.d.len().min(right.d.len());
+        let mut best: Option<((usize, usize), T)> = None;
+        for k in 0..n {
+            for (i, &kind) in self.kinds(k).iter().enumerate() {
+                let s1 = self.slack(k, kind, right.d[k], dir);
+                if s1.v.partial_cmp(&T::zero()) != Some(std::cmp::Ordering::Less) || self.rounding_at_tangency(s1) {
+                    continue;
+                }
+                let s0 = self.slack(k, kind, near.d[k], dir);
+                if !self.closes_beyond(s0, flat_at_near.contains(&Event { step: k, kind })) {
+                    return None; // a root at `near` itself: the ordinary scan finds it
+                }
+                let back = length - s1.v / s1.d;
+                let chord = if s0.v > T::zero() { length * s0.v / (s0.v - s1.v) } else { T::zero() };
+                let at = if back > T::zero() && back < length { back } else { chord };
+                if best.as_ref().is_none_or(|(_, b)| at < *b) {
+                    best = Some(((k, i), at));
+                }
+            }
+        }
+        best.map(|(e, _)| e)
+    }
+
+    /// The root of a slack positive at a and negative at b: b itself when
+    /// it is the end the walk approaches and this step is flat there
+    /// ([`Self::known_end`]), else located by [`Self::locate`].
+    fn crossing(&self, along: Along<T>, (a, va): (T, T), (b, s1): (T, Jet<T>)) -> T {
+        let event = Event { step: along.k, kind: along.kind };
+        let known = self.known_end.as_ref().is_some_and(|(at, events)| *at == b && events.contains(&event));
+        if known { b } else { self.locate(along, (a, va), (b, s1)) }
     }
 
     /// The first λ in (a, b] (walking in `dir`) where step k's slack for
@@ -629,7 +768,7 @@ impl<'a, T: Real> Walker<'a, T> {
         } else if s1.v == zero {
             return Some(b);
         } else if s1.v < zero {
-            return Some(self.locate(along, a, (b, s1)));
+            return Some(self.crossing(along, (a, s0.v), (b, s1)));
         }
         let clamp = |s: Jet<T>| Jet { v: if s.v < zero { zero } else { s.v }, ..s };
         let (s0, s1) = (clamp(s0), clamp(s1));
@@ -680,7 +819,7 @@ impl<'a, T: Real> Walker<'a, T> {
                     return self.through_minimum(along, a, b);
                 }
                 if sc.v <= T::zero() {
-                    return Some(self.locate(along, a, (c, sc)));
+                    return Some(self.locate(along, (a, s0.v), (c, sc)));
                 }
                 self.search(along, (a, s0), (c, sc), depth + 1)
                     .or_else(|| self.search(along, (c, sc), (b, s1), depth + 1))
@@ -712,17 +851,24 @@ impl<'a, T: Real> Walker<'a, T> {
                 }
                 None
             }
-            Extremum::Below => Some(self.locate(along, a, (m, sm))),
+            Extremum::Below => Some(self.locate(along, (a, sa.v), (m, sm))),
         }
     }
 
-    /// The root of step k's slack between a (slack > 0) and b (≤ 0), where
-    /// the slack's jet `sb` (slope along the walk) is already known: the
-    /// first Newton step is taken from b (often a root found already, or
-    /// next to one), at no cost.
-    fn locate(&self, along: Along<T>, a: T, (b, sb): (T, Jet<T>)) -> T {
-        let seed = finite(&sb).then_some((b, sb.v, sb.d * along.dir));
-        let run = newton_seeded(a, b, seed, |x| self.slack_slope_at(along, x).map(|(v, d)| (v, d * along.dir)));
+    /// The root of step k's slack between a (slack `va` > 0) and b (≤ 0),
+    /// where the slack's jet `sb` (slope along the walk) is already known:
+    /// the first Newton step is taken from b (often a root found already, or
+    /// next to one), at no cost. Without a slope at b (b is an end where an
+    /// earlier step is flat, and the slack behaves like va′ + c√|b − λ|
+    /// there) the first evaluation is at that model's root.
+    fn locate(&self, along: Along<T>, (a, va): (T, T), (b, sb): (T, Jet<T>)) -> T {
+        let f = |x| self.slack_slope_at(along, x).map(|(v, d)| (v, d * along.dir));
+        let run = if finite(&sb) {
+            newton_seeded(a, b, Some((b, sb.v, sb.d * along.dir)), f)
+        } else {
+            let r = sb.v / (va - sb.v);
+            newton_from(a, b, b + (a - b) * r * r, f)
+        };
         self.roots.set(self.roots.get() + 1);
         self.newton_evaluations.set(self.newton_evaluations.get() + run.evaluations);
         run.root
@@ -739,6 +885,32 @@ enum Shape {
     Convex,
     /// Its curvature changes sign and the bounds do not decide.
     Inflection,
+}
+
+/// How far a slack's quadratic Taylor models from each end of a gap of
+/// `length` miss its value at the other end (jets `s0`, `s1`, slopes along
+/// the gap): the larger miss.
+fn quadratic_misfit<T: Real>(s0: Jet<T>, s1: Jet<T>, length: T) -> T {
+    let half = T::from_f64(0.5);
+    let ahead = s0.v + s0.d * length + half * s0.s * length * length;
+    let back = s1.v - s1.d * length + half * s1.s * length * length;
+    let (e1, e0) = ((ahead - s1.v).abs(), (back - s0.v).abs());
+    if e1 > e0 || e0.to_f64().is_nan() { e1 } else { e0 }
+}
+
+/// [`quadratic_misfit`] of the models in u = √t, t the distance to an end
+/// (t0, t1 > 0 at the gap's ends, on one side of it): with t′ = ±1 along
+/// the gap, s_u = 2u·s_t and s_uu = 4t·s_tt + 2s_t.
+fn root_misfit<T: Real>(s0: Jet<T>, s1: Jet<T>, t0: T, t1: T) -> T {
+    let (two, four) = (T::from_f64(2.0), T::from_f64(4.0));
+    // Slopes in t: along the gap when it leads away from the end.
+    let away = if t1 > t0 { T::from_f64(1.0) } else { T::from_f64(-1.0) };
+    let (u0, u1) = (t0.sqrt(), t1.sqrt());
+    let in_u = |s: Jet<T>, t: T, u: T| {
+        let st = s.d * away;
+        Jet { v: s.v, d: two * u * st, s: four * t * s.s + two * st }
+    };
+    quadratic_misfit(in_u(s0, t0, u0), in_u(s1, t1, u1), u1 - u0)
 }
 
 /// Certify a slack over a gap of `length` from its jets `s0`, `s1` at the
@@ -765,18 +937,4 @@ fn certify<T: Real>(s0: Jet<T>, s1: Jet<T>, length: T) -> Shape {
     let positive =
         if convex0 { s0.d > zero || s0.v + s0.d * length > zero } else { s1.d < zero || s1.v - s1.d * length > zero };
     if positive { Shape::NoRoot } else { Shape::Inflection }
-}
-
-/// Points from `from` toward `end`, ever closer to `end`: end − (end − from)·8^−i
-/// down to a distance `finest`, the nearest to `end` first.
-fn toward<T: Real>(end: T, from: T, finest: T) -> Vec<T> {
-    let mut out = Vec::new();
-    let ratio = T::from_f64(tolerance::APPROACH_RATIO);
-    let mut offset = (from - end) / ratio;
-    while offset.abs() > finest && out.len() < tolerance::APPROACH_MAX_SAMPLES {
-        out.push(end + offset);
-        offset = offset / ratio;
-    }
-    out.reverse();
-    out
 }

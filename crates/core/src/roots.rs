@@ -169,7 +169,9 @@ pub struct NewtonRun<T> {
 /// cost instead of from the midpoint.
 ///
 /// Stops when a step is rounding noise: within
-/// [`tolerance::NEWTON_CONVERGED_ULPS`] of x, or — at the rounding floor,
+/// [`tolerance::NEWTON_CONVERGED_ULPS`] of x, or predicted to leave the
+/// next one that close (quadratic convergence: the next step is about
+/// step³/last², once a step is under a quarter of the last), or — at the rounding floor,
 /// where g's value is its rounding error and Newton steps stop shrinking —
 /// when a Newton step is no shorter than the one before and both are below
 /// [`tolerance::NEWTON_FLOOR`] of the bracket's magnitude. At the floor every
@@ -177,9 +179,26 @@ pub struct NewtonRun<T> {
 /// bracket's evaluated ends is tried (one more evaluation), and the point of
 /// least |g| seen is returned.
 pub fn newton_seeded<T: Real>(a: T, b: T, seed: Option<(T, T, T)>, f: impl Fn(T) -> Option<(T, T)>) -> NewtonRun<T> {
+    newton_run(a, b, seed, None, f)
+}
+
+/// [`newton`] with its first evaluation at `start` (strictly inside the
+/// bracket; else at the midpoint): a guess from what is known of g without
+/// its derivative.
+pub fn newton_from<T: Real>(a: T, b: T, start: T, f: impl Fn(T) -> Option<(T, T)>) -> NewtonRun<T> {
+    newton_run(a, b, None, Some(start).filter(|&s| between(s, a, b)), f)
+}
+
+fn newton_run<T: Real>(
+    a: T,
+    b: T,
+    seed: Option<(T, T, T)>,
+    start: Option<T>,
+    f: impl Fn(T) -> Option<(T, T)>,
+) -> NewtonRun<T> {
     let (mut pos, mut neg) = (a, b);
     let two = T::from_f64(2.0);
-    let mut x = (a + b) / two;
+    let mut x = start.unwrap_or((a + b) / two);
     let mut best = (x, T::from_f64(f64::INFINITY));
     let mut evaluations = 0;
     let converged = T::from_f64(tolerance::NEWTON_CONVERGED_ULPS * T::UNIT_ROUNDOFF);
@@ -239,6 +258,16 @@ pub fn newton_seeded<T: Real>(a: T, b: T, seed: Option<(T, T, T)>, f: impl Fn(T)
         }
         if between(next, pos, neg) && step.to_f64().is_finite() {
             if step.abs() <= converged * x.abs() {
+                return NewtonRun { root: next, evaluations };
+            }
+            // Converging quadratically (this step under a quarter of the
+            // last), the next would be about step³/last²: below rounding, so
+            // this step lands as close as f64 resolves, with no evaluation.
+            let quarter = T::from_f64(0.25);
+            if let Some(l) = last_step
+                && step.abs() <= quarter * l
+                && step.abs() * (step / l) * (step / l) <= converged * next.abs()
+            {
                 return NewtonRun { root: next, evaluations };
             }
             last_step = Some(step.abs());

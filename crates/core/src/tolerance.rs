@@ -44,11 +44,12 @@ pub const EVENTS_COINCIDE: f64 = 1e-11;
 /// Intervals of the non-oriented Cayley space closer than this (× scale) are joined.
 pub const UNION_GAP: f64 = 1e-12;
 
-/// The lazy walk samples geometrically toward every interval end it finds
-/// (and away from the end it enters by), down to this distance (× scale):
-/// there the later steps behave like square roots and their derivatives
-/// say nothing. A dip of a later step's slack closer than this to an end is
-/// not looked for.
+/// The lazy walk samples toward every interval end it finds (and away from
+/// the end it enters by) down to this distance (× scale): there the later
+/// steps behave like square roots and their derivatives say nothing. The
+/// gap that touches the end is at most [`APPROACH_RATIO`] times this and is
+/// not refined: a dip of a later step's slack inside it that does not
+/// change the slack's sign at its ends is not looked for.
 pub const LAZY_APPROACH: f64 = 1e-7;
 
 // ---------------------------------------------------------------------------
@@ -252,12 +253,10 @@ pub const MODEL_MARGIN: f64 = 0.25;
 /// tangency is rounding, not a crossing (lazy walk).
 pub const TANGENCY_NOISE_ULPS: f64 = 64.0;
 
-/// The lazy walk's geometric approach to an end: each sample this factor
-/// closer than the previous …
+/// The lazy walk's samples next to an end: each at least this factor closer
+/// to an end it approaches than the one before, and no gap more than this
+/// factor longer than the one before.
 pub const APPROACH_RATIO: f64 = 8.0;
-
-/// … and at most this many of them (8^-24 of a gap is below f64's resolution).
-pub const APPROACH_MAX_SAMPLES: usize = 24;
 
 /// Where a step degenerates exactly at λ (its base joints coincide), the
 /// realization's limit is taken at λ nudged toward the segment's interior by
