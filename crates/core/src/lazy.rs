@@ -501,7 +501,7 @@ impl<'a, T: Real> Walker<'a, T> {
                 continue;
             }
             // The quadratic models' error grows as the gap cubed: aim the
-            // next gap at half the margin. Next to an end the slacks vary on
+            // next gap at a fraction of the margin. Next to an end the slacks vary on
             // the scale of the distance t to it, so the gap also scales with
             // t (the last gap's error recurs at the same gap/t). At most the
             // approach ratio, and that much after a gap at an end.
@@ -510,7 +510,10 @@ impl<'a, T: Real> Walker<'a, T> {
             let relative = if t0 > 0.0 && t1.is_finite() { t1 / t0 } else { 1.0 };
             let grow = match model {
                 _ if at_end => ratio,
-                Some(e) => ((0.5 / e.max(1e-300)).cbrt() * relative).clamp(0.25, ratio),
+                Some(e) => {
+                    let aim = (tolerance::LAZY_MODEL_AIM / e.max(f64::MIN_POSITIVE)).cbrt();
+                    (aim * relative).clamp(tolerance::LAZY_MIN_GROWTH, ratio)
+                }
                 None => 1.0,
             };
             let next = gap * T::from_f64(grow);

@@ -253,6 +253,16 @@ pub const MODEL_MARGIN: f64 = 0.25;
 /// tangency is rounding, not a crossing (lazy walk).
 pub const TANGENCY_NOISE_ULPS: f64 = 64.0;
 
+/// The lazy walk's next gap aims the jets' model error at this fraction of
+/// the margin that still certified the last gap (the error grows as the gap
+/// cubed, so the gap scales by the cube root). A step-size choice only: every
+/// gap is certified or refined whatever its length.
+pub const LAZY_MODEL_AIM: f64 = 0.5;
+
+/// The lazy walk's next gap is at least this fraction of the last one (a
+/// gap the model predicted badly shrinks, but not to nothing).
+pub const LAZY_MIN_GROWTH: f64 = 0.25;
+
 /// The lazy walk's samples next to an end: each at least this factor closer
 /// to an end it approaches than the one before, and no gap more than this
 /// factor longer than the one before.
