@@ -23,14 +23,19 @@ use crate::realize::{RealizationType, Unrealizable};
 /// (so two floats print apart, and 0.2 prints as 0.2), positional between
 /// 1e-4 and 1e9 as the tables are, else scientific (1e-20, 1e300).
 pub fn sig(x: f64) -> String {
-    let exp = if x == 0.0 || !x.is_finite() { 0.0 } else { x.abs().log10().floor() };
-    if (-4.0..9.0).contains(&exp) { format!("{x}") } else { format!("{x:e}") }
+    shortest(x, 1e9)
 }
 
 /// A distance to full precision: the shortest form that reads back exactly,
 /// in scientific notation when tiny or huge.
 pub fn full(x: f64) -> String {
-    if x == 0.0 || (1e-4..1e15).contains(&x.abs()) { format!("{x}") } else { format!("{x:e}") }
+    shortest(x, 1e15)
+}
+
+/// The shortest digits that read back as `x`: positional from 1e-4 up to
+/// `below` (and for 0), else scientific.
+fn shortest(x: f64, below: f64) -> String {
+    if x == 0.0 || (1e-4..below).contains(&x.abs()) { format!("{x}") } else { format!("{x:e}") }
 }
 
 /// A type for a text table: up to [`TYPE_PLAIN`] signs as they are, up to

@@ -258,29 +258,28 @@ impl App {
     }
 
     fn undo(&mut self) -> Result<Option<String>, String> {
-        let c = self.editor.undo.pop().ok_or("nothing to undo")?;
-        let now = self.doc.text();
-        if let Err(e) = self.doc.set_text(&c.text) {
-            self.editor.undo.push(c);
-            return Err(e.to_string());
-        }
-        let note = format!("undid: {} ({} more to undo)", c.what, self.editor.undo.len());
-        self.editor.redo.push(Change { text: now, what: c.what });
-        self.reanalyse();
-        Ok(Some(note))
+        let what = self.travel(true)?;
+        Ok(Some(format!("undid: {what} ({} more to undo)", self.editor.undo.len())))
     }
 
     fn redo(&mut self) -> Result<Option<String>, String> {
-        let c = self.editor.redo.pop().ok_or("nothing to redo")?;
+        Ok(Some(format!("redid: {}", self.travel(false)?)))
+    }
+
+    /// Undo (`back`) or redo one change: its text becomes the document's and
+    /// the text before goes on the other stack; what the change was, in words.
+    fn travel(&mut self, back: bool) -> Result<String, String> {
+        let editor = &mut self.editor;
+        let (from, to) = if back { (&mut editor.undo, &mut editor.redo) } else { (&mut editor.redo, &mut editor.undo) };
+        let c = from.pop().ok_or(if back { "nothing to undo" } else { "nothing to redo" })?;
         let now = self.doc.text();
         if let Err(e) = self.doc.set_text(&c.text) {
-            self.editor.redo.push(c);
+            from.push(c);
             return Err(e.to_string());
         }
-        let note = format!("redid: {}", c.what);
-        self.editor.undo.push(Change { text: now, what: c.what });
+        to.push(Change { text: now, what: c.what.clone() });
         self.reanalyse();
-        Ok(Some(note))
+        Ok(c.what)
     }
 
     fn save(&mut self) -> Result<Option<String>, String> {
