@@ -276,3 +276,43 @@ fn the_marker_of_the_value_now_is_under_its_column() {
         }
     }
 }
+
+/// A sweep's samples skip the double-double self-check: it refines the ends'
+/// λ and never the structure. Checked on every bundled scene and hard case
+/// (full analyses) and on a 30-step chain (the lazy walk): the same oriented
+/// intervals with the same events, components and non-oriented pieces.
+#[test]
+fn the_self_check_never_changes_the_structure() {
+    use caymos::analysis::{Scope, SelfCheck, analyse_checked};
+    let mut scenes: Vec<_> = caymos::bundled::BUNDLED.iter().map(|b| caymos::bundled::load(b.name).unwrap()).collect();
+    scenes.extend(caymos::generate::hard_cases());
+    scenes.push(caymos::generate::chain(30));
+    let mut checked_some = 0;
+    for scene in scenes {
+        let name = scene.name.clone();
+        let run = |check| analyse_checked(scene.clone(), None, Scope::Auto, check).unwrap();
+        let (with, without) = (run(SelfCheck::Run), run(SelfCheck::Skip));
+        let scale = with.linkage.scale;
+        let (Ok(with), Ok(without)) = (with.outcome, without.outcome) else { continue };
+        assert!(without.accuracy.is_none(), "{name}");
+        checked_some += usize::from(with.accuracy.is_some());
+        let shape = |s: &caymos::analysis::Solved| {
+            let ivs: Vec<_> = s
+                .space
+                .intervals
+                .iter()
+                .map(|iv| (iv.ty.clone(), iv.lower.events.clone(), iv.upper.events.clone()))
+                .collect();
+            let comps: Vec<_> = s.components.list.iter().map(|c| c.intervals.clone()).collect();
+            (ivs, comps, s.union.len(), s.components.branch_points.len())
+        };
+        assert_eq!(shape(&with), shape(&without), "{name}");
+        // The ends agree to a few ulps of the scene's scale.
+        for (a, b) in with.space.intervals.iter().zip(&without.space.intervals) {
+            for (x, y) in [(a.lower.lambda, b.lower.lambda), (a.upper.lambda, b.upper.lambda)] {
+                assert!((x - y).abs() <= 64.0 * f64::EPSILON * scale, "{name}: {x} vs {y}");
+            }
+        }
+    }
+    assert!(checked_some >= 10, "the self-check ran on {checked_some} scenes");
+}

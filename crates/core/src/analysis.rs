@@ -110,7 +110,8 @@ pub struct Solved {
     pub space: CayleySpace<f64>,
     /// The non-oriented Cayley configuration space.
     pub union: Vec<[f64; 2]>,
-    /// Against the double-double reference (`None` when skipped for size).
+    /// Against the double-double reference (`None` when skipped for size,
+    /// or not asked for: [`SelfCheck::Skip`]).
     pub accuracy: Option<Accuracy>,
     /// The connected components: cycles of oriented intervals of `space`.
     pub components: Components,
@@ -589,8 +590,29 @@ pub fn analyse(scene: Scene, base_override: Option<[usize; 2]>) -> Result<Analys
     analyse_with(scene, base_override, Scope::Auto)
 }
 
+/// Whether an analysis checks itself against the double-double reference.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SelfCheck {
+    /// Check, and show the reference's ends where the structures agree (every report).
+    Run,
+    /// Skip it: for callers that read only the structure, which the check
+    /// never changes (a sweep's samples). On a deep chain the check costs
+    /// about as much as the walk itself.
+    Skip,
+}
+
 /// [`analyse`] with the extent of the realization space chosen explicitly.
 pub fn analyse_with(scene: Scene, base_override: Option<[usize; 2]>, scope: Scope) -> Result<Analysis, SceneError> {
+    analyse_checked(scene, base_override, scope, SelfCheck::Run)
+}
+
+/// [`analyse_with`], with or without the double-double self-check.
+pub fn analyse_checked(
+    scene: Scene,
+    base_override: Option<[usize; 2]>,
+    scope: Scope,
+    check: SelfCheck,
+) -> Result<Analysis, SceneError> {
     let mut timings = Timings::default();
     let linkage = timings.time("linkage", || Linkage::from_scene(&scene));
     let (requested, source) = match (base_override, scene.base) {
@@ -666,7 +688,9 @@ pub fn analyse_with(scene: Scene, base_override: Option<[usize; 2]>, scope: Scop
             )
         })
     };
-    let accuracy = if lazy {
+    let accuracy = if check == SelfCheck::Skip {
+        None
+    } else if lazy {
         (dec.steps.len() <= LAZY_REFERENCE_MAX_STEPS && !space.intervals.is_empty())
             .then(|| timings.time("reference", || lazy_reference_accuracy(&linkage, &dec, &mut space)))
             .flatten()

@@ -69,7 +69,7 @@ pub use nalgebra;
 
 // The main types and entry points, in data-flow order; every module stays
 // public for the rest.
-pub use analysis::{Analysis, Scope, Solved, analyse, analyse_with};
+pub use analysis::{Analysis, Scope, SelfCheck, Solved, analyse, analyse_checked, analyse_with};
 pub use cayley_space::{CayleySpace, Method, Note, OrientedInterval, cayley_space};
 pub use cayley_vector::{cayley_vector, euclid};
 pub use certify::{Certifier, Sign};

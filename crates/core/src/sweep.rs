@@ -2,8 +2,9 @@
 //! bar's length, or one coordinate of a drawn joint), and the exact values
 //! where its structure changes.
 //!
-//! Each sample is a full [`analyse`](crate::analysis::analyse_with) of the
-//! edited scene, summarised as a [`Structure`]: the class, every oriented
+//! Each sample is a full [`analyse`](crate::analysis::analyse_checked) of the
+//! edited scene, without the double-double self-check (it refines only the
+//! ends' λ, never the structure), summarised as a [`Structure`]: the class, every oriented
 //! interval as (type, flat steps at each end), the number of non-oriented
 //! pieces, the component sizes, the branch points and (with an input bar)
 //! which components turn it fully. Every part of it is decided by the
@@ -19,7 +20,7 @@
 //! seen (more samples find it); at most [`MAX_SPLITS`] intermediate
 //! structures are followed in one sample gap.
 
-use crate::analysis::{Scope, Solved, analyse_with, no_realization};
+use crate::analysis::{Scope, SelfCheck, Solved, analyse_checked, no_realization};
 use crate::decompose::Outside;
 use crate::linkage::Linkage;
 use crate::motion::{Stepper, component_segments};
@@ -241,7 +242,9 @@ pub struct SweepSample {
     pub value: f64,
     /// The class, with detail.
     pub class: Class,
-    /// The non-oriented Cayley space.
+    /// The non-oriented Cayley space. Its ends (and the components' λ
+    /// below) are the f64 analysis's, not refined by the self-check: within
+    /// a few ulps of the double-double ends that `report` shows.
     pub union: Vec<[f64; 2]>,
     /// How many oriented intervals.
     pub oriented_intervals: usize,
@@ -391,7 +394,7 @@ pub fn sample(setup: &Setup, value: f64) -> SweepSample {
             structure,
         }
     };
-    let analysis = match analyse_with(scene, setup.base, Scope::Auto) {
+    let analysis = match analyse_checked(scene, setup.base, Scope::Auto, SelfCheck::Skip) {
         Err(e) => return empty(Class::Invalid(e.message)),
         Ok(a) => a,
     };
