@@ -574,8 +574,10 @@ impl<T: Real> Real for Ball<T> {
             let top = (m + self.r).max(0.0).sqrt();
             return Ball { m: root, r: (top.max(centre) * RADIUS_ROUNDING).max(centre) };
         }
-        let low = (m - self.r).sqrt();
-        Ball::rounded(root, self.r / (centre + low))
+        // |√x − √m| ≤ r / (√m + √(m − r)), and √(m − r) ≥ √m·(1 − r/m)
+        // (√(1 − t) ≥ 1 − t on [0, 1]): no second square root, and a bound
+        // looser only by the relative r/(2m).
+        Ball::rounded(root, self.r / (centre * (2.0 - self.r / m)))
     }
     fn clamp_nonneg(self) -> Self {
         // max(·, 0) is 1-Lipschitz: the radius carries over.
@@ -648,6 +650,9 @@ mod tests {
         // √ of an enclosure reaching below zero stays an enclosure of √[0, hi].
         let s = Ball::<f64> { m: 1e-20, r: 1e-18 }.sqrt();
         assert!(s.m - s.r <= 0.0 && s.m + s.r >= (1.01e-18f64).sqrt());
+        // Away from zero it encloses √ of both ends, and is nearly tight.
+        let b = Ball::<f64> { m: 2.0, r: 0.5 }.sqrt();
+        assert!(b.m - b.r <= 1.5f64.sqrt() && b.m + b.r >= 2.5f64.sqrt() && b.r < 0.21);
         // Double-double balls decide what f64 ones cannot.
         let a = Ball::<Dd>::from_dd(Dd::new(1.0) + Dd::new(1e-20));
         assert_eq!((a - Ball::from_f64(1.0)).sign(), Some(1));
