@@ -47,18 +47,30 @@ pub trait Real:
         if self < Self::zero() { Self::zero() } else { self }
     }
     /// Whether `realize::apex` divides by its base length d through one
-    /// reciprocal 1/d and products (true for [`Ball`], where a division costs
-    /// two and six ball divisions fewer matter on the hot path of every
-    /// certified decision) rather than by plain divisions (every other type,
-    /// so its values stay exactly those of the formula as written).
+    /// reciprocal 1/d and products, rather than by plain divisions. True
+    /// where a division costs far more than a product: [`Ball`] (two ball
+    /// divisions, the hot path of every certified decision) and [`Dd`]
+    /// (its division is three f64 divisions and two exact products, the
+    /// hot path of the double-double self-check and end refinement); the
+    /// quotients differ by a few units of the type's roundoff. False for
+    /// f64, and so for its jets, whose values stay exactly those of the
+    /// formula as written (the walk's jets and the plain realization agree
+    /// bit for bit).
     const APEX_BY_RECIPROCAL: bool = false;
     /// √(x² + y²) without squaring a length: scaled by the larger of |x|, |y|
     /// so that scenes near 1e±300 neither overflow nor underflow.
+    /// Types whose division is dear ([`Self::APEX_BY_RECIPROCAL`]) square
+    /// directly where the squares keep their full precision
+    /// ([`HYPOT_SQUARE_RANGE`]): two divisions fewer.
     fn hypot(x: Self, y: Self) -> Self {
         let (ax, ay) = (x.abs(), y.abs());
         let m = if ax > ay { ax } else { ay };
         if m.partial_cmp(&Self::zero()) != Some(std::cmp::Ordering::Greater) {
             return m;
+        }
+        let big = m.to_f64();
+        if Self::APEX_BY_RECIPROCAL && big > HYPOT_SQUARE_RANGE[0] && big < HYPOT_SQUARE_RANGE[1] {
+            return (x * x + y * y).sqrt();
         }
         let (u, v) = (x / m, y / m);
         m * (u * u + v * v).sqrt()
@@ -185,6 +197,7 @@ impl PartialOrd for Dd {
 
 impl Real for Dd {
     const UNIT_ROUNDOFF: f64 = 1.232_595_164_407_831e-32; // 2^-106
+    const APEX_BY_RECIPROCAL: bool = true;
     fn from_f64(x: f64) -> Self {
         Dd::new(x)
     }
@@ -277,6 +290,7 @@ impl<T: Real> PartialOrd for Jet<T> {
 
 impl<T: Real> Real for Jet<T> {
     const UNIT_ROUNDOFF: f64 = T::UNIT_ROUNDOFF;
+    const APEX_BY_RECIPROCAL: bool = T::APEX_BY_RECIPROCAL;
     fn from_f64(x: f64) -> Self {
         Jet::constant(T::from_f64(x))
     }
@@ -361,6 +375,7 @@ impl<T: Real> PartialOrd for Slope<T> {
 
 impl<T: Real> Real for Slope<T> {
     const UNIT_ROUNDOFF: f64 = T::UNIT_ROUNDOFF;
+    const APEX_BY_RECIPROCAL: bool = T::APEX_BY_RECIPROCAL;
     fn from_f64(x: f64) -> Self {
         Slope::constant(T::from_f64(x))
     }
@@ -605,6 +620,10 @@ impl<T: Real> Real for Ball<T> {
 /// Components of this size square without overflow, and their squares
 /// stay normal (the sum then carries their rounding in its radius).
 const HYPOT_DIRECT_RANGE: [f64; 2] = [1e-140, 1e140];
+
+/// Components of this size square in double-double with every part of the
+/// product (down to 2^-106 of it) a normal number.
+const HYPOT_SQUARE_RANGE: [f64; 2] = [1e-100, 1e100];
 
 #[cfg(test)]
 mod tests {
