@@ -16,6 +16,10 @@ use caymos::motion::{Stepper, component_segments, components};
 use caymos::real::Jet;
 use criterion::{Criterion, criterion_group, criterion_main};
 
+/// The binary's allocator (see Cargo.toml), so these figures are `caymos bench`'s.
+#[global_allocator]
+static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
 fn small_scenes(c: &mut Criterion) {
     for name in ["fourbar-crank-rocker", "jansen", "limacon"] {
         let scene = caymos::bundled::load(name).expect("bundled");
