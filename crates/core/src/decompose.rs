@@ -45,7 +45,136 @@ pub struct ClusterSet {
     /// Every cluster ever formed, indexed by id (merged ones included).
     pub nodes: Vec<ClusterNode>,
     alive: Vec<bool>,
-    by_joint: Vec<Vec<usize>>,
+    by_joint: Memberships,
+}
+
+/// No entry (the end of a [`Memberships`] list).
+const NONE: usize = usize::MAX;
+
+/// Which clusters hold each joint: one list per joint, all in a single arena
+/// (three allocations however many joints; a `Vec` per joint made building
+/// and cloning a set allocate once per joint and again as each grew). A
+/// list keeps insertion order, which is creation order, so the clusters at
+/// a joint come out in the same order as before.
+#[derive(Debug, Clone)]
+struct Memberships {
+    /// Per joint: its first entry, or [`NONE`].
+    head: Vec<usize>,
+    /// Per joint: its last entry, or [`NONE`] (appending is O(1)).
+    tail: Vec<usize>,
+    /// (cluster, next entry of the same joint or [`NONE`]).
+    entries: Vec<(usize, usize)>,
+}
+
+impl Memberships {
+    /// Lists for `n_joints` joints, with room for `capacity` entries.
+    fn new(n_joints: usize, capacity: usize) -> Self {
+        Memberships { head: vec![NONE; n_joints], tail: vec![NONE; n_joints], entries: Vec::with_capacity(capacity) }
+    }
+
+    fn n_joints(&self) -> usize {
+        self.head.len()
+    }
+
+    /// Record that `cluster` holds `joint` (after every cluster recorded before).
+    fn push(&mut self, joint: usize, cluster: usize) {
+        let at = self.entries.len();
+        self.entries.push((cluster, NONE));
+        match self.tail[joint] {
+            NONE => self.head[joint] = at,
+            last => self.entries[last].1 = at,
+        }
+        self.tail[joint] = at;
+    }
+
+    /// The clusters holding `joint`, dead ones included, in creation order.
+    fn of(&self, joint: usize) -> impl Iterator<Item = usize> + '_ {
+        let mut at = self.head[joint];
+        std::iter::from_fn(move || {
+            let (cluster, next) = *self.entries.get(at)?;
+            at = next;
+            Some(cluster)
+        })
+    }
+}
+
+/// The joints of one cluster marked in a reusable buffer: whether a joint
+/// is in it is one lookup, not a binary search (and no allocation).
+struct JointMarks {
+    /// `stamp[j] == round`: joint j is in the marked cluster.
+    stamp: Vec<u32>,
+    round: u32,
+}
+
+impl JointMarks {
+    fn new(n_joints: usize) -> Self {
+        JointMarks { stamp: vec![0; n_joints], round: 0 }
+    }
+
+    /// Mark exactly `joints` (forgetting the previous marks).
+    fn set(&mut self, joints: &[usize]) {
+        self.round += 1;
+        for &j in joints {
+            self.stamp[j] = self.round;
+        }
+    }
+
+    fn has(&self, joint: usize) -> bool {
+        self.stamp[joint] == self.round
+    }
+}
+
+/// For one cluster `a`: how many joints each live cluster shares with it
+/// (counted up to two) and the smallest shared one, found in one pass over
+/// the clusters at `a`'s joints. The triangle search then asks "does c share
+/// exactly one joint with a" by a lookup instead of merging two joint lists
+/// for every cluster it meets. Buffers are reused from cluster to cluster.
+struct Meets {
+    /// `stamp[c] == round`: cluster c shares a joint with the current `a`.
+    stamp: Vec<u32>,
+    round: u32,
+    /// Joints shared with `a`, counted up to two.
+    count: Vec<u8>,
+    /// The smallest joint shared with `a`.
+    first: Vec<usize>,
+}
+
+impl Meets {
+    fn new() -> Self {
+        Meets { stamp: Vec::new(), round: 0, count: Vec::new(), first: Vec::new() }
+    }
+
+    /// Count the joints every live cluster shares with `a` (`a` itself excluded).
+    fn around(&mut self, set: &ClusterSet, a: usize) {
+        self.round += 1;
+        let n = set.nodes.len();
+        if self.stamp.len() < n {
+            self.stamp.resize(n, 0);
+            self.count.resize(n, 0);
+            self.first.resize(n, usize::MAX);
+        }
+        // a's joints ascend, so the first one recorded is the smallest.
+        for &p in &set.nodes[a].joints {
+            for c in set.containing(p) {
+                if c == a {
+                    continue;
+                }
+                if self.stamp[c] == self.round {
+                    self.count[c] = 2;
+                } else {
+                    self.stamp[c] = self.round;
+                    self.count[c] = 1;
+                    self.first[c] = p;
+                }
+            }
+        }
+    }
+
+    /// Like [`ClusterSet::meet`] of `a` and `c`: the shared joints counted up
+    /// to two, and the first (`usize::MAX` when none).
+    fn with(&self, c: usize) -> (usize, usize) {
+        if self.stamp[c] == self.round { (usize::from(self.count[c]), self.first[c]) } else { (0, usize::MAX) }
+    }
 }
 
 fn sorted_intersection(a: &[usize], b: &[usize]) -> Vec<usize> {
@@ -75,11 +204,19 @@ impl ClusterSet {
     /// One cluster per bar and per body (a bar that a body already holds,
     /// agreeing with it, is no cluster of its own: see [`bars_within_bodies`]).
     pub fn initial(linkage: &Linkage) -> ClusterSet {
-        let mut set =
-            ClusterSet { nodes: Vec::new(), alive: Vec::new(), by_joint: vec![Vec::new(); linkage.n_joints()] };
-        let ignored: Vec<usize> = bars_within_bodies(linkage).iter().filter(|b| b.agrees).map(|b| b.bar).collect();
+        // Each merge kills two or three clusters and makes one, so a set ends
+        // with fewer than twice its initial clusters: reserved once, not grown.
+        let initial = linkage.bars.len() + linkage.bodies.len();
+        let memberships = 2 * linkage.bars.len() + linkage.bodies.iter().map(Vec::len).sum::<usize>();
+        let mut set = ClusterSet {
+            nodes: Vec::with_capacity(2 * initial),
+            alive: Vec::with_capacity(2 * initial),
+            by_joint: Memberships::new(linkage.n_joints(), 2 * memberships),
+        };
+        let within = bars_within_bodies(linkage);
+        let ignored = |i: usize| within.iter().any(|b| b.agrees && b.bar == i);
         for (i, bar) in linkage.bars.iter().enumerate() {
-            if !ignored.contains(&i) {
+            if !ignored(i) {
                 set.add(bar.joints.to_vec(), Origin::Bar(i));
             }
         }
@@ -95,7 +232,7 @@ impl ClusterSet {
         joints.dedup();
         let id = self.nodes.len();
         for &j in &joints {
-            self.by_joint[j].push(id);
+            self.by_joint.push(j, id);
         }
         self.nodes.push(ClusterNode { joints, origin });
         self.alive.push(true);
@@ -104,7 +241,7 @@ impl ClusterSet {
 
     /// The number of joints (cluster joints are below it).
     pub fn n_joints(&self) -> usize {
-        self.by_joint.len()
+        self.by_joint.n_joints()
     }
 
     /// Whether cluster `id` has not been merged into a bigger one.
@@ -161,22 +298,25 @@ impl ClusterSet {
 
     /// Live clusters containing `joint`.
     pub fn containing(&self, joint: usize) -> impl Iterator<Item = usize> + '_ {
-        self.by_joint[joint].iter().copied().filter(|&c| self.alive[c])
+        self.by_joint.of(joint).filter(|&c| self.alive[c])
     }
 
     /// A merge involving cluster `a`: a triangle of clusters (pairwise one
     /// shared joint, three distinct joints) or an overlap of two or more joints.
-    fn find_merge(&self, a: usize) -> Option<Merge> {
+    /// `marks` and `meets` are scratch space (they end up describing `a`).
+    fn find_merge(&self, a: usize, marks: &mut JointMarks, meets: &mut Meets) -> Option<Merge> {
+        marks.set(&self.nodes[a].joints);
+        meets.around(self, a);
         for &p in &self.nodes[a].joints {
             for b in self.containing(p) {
                 if b == a {
                     continue;
                 }
-                if self.meet(a, b).0 >= 2 {
+                if meets.with(b).0 >= 2 {
                     return Some(Merge::Overlap { parts: [a, b] });
                 }
                 for &q in &self.nodes[b].joints {
-                    if q == p || self.contains(a, q) {
+                    if q == p || marks.has(q) {
                         continue;
                     }
                     for c in self.containing(q) {
@@ -184,7 +324,7 @@ impl ClusterSet {
                             continue;
                         }
                         // Most clusters at q miss `a`: that test first.
-                        let Some(r) = self.single_shared(a, c) else { continue };
+                        let (1, r) = meets.with(c) else { continue };
                         if self.single_shared(b, c) == Some(q) {
                             return Some(Merge::Triangle { parts: [a, b, c], shared: [p, q, r] });
                         }
@@ -214,11 +354,12 @@ impl ClusterSet {
     pub fn merge_all(&mut self) {
         let mut work: Vec<usize> = self.alive_ids();
         work.reverse();
+        let (mut marks, mut meets) = (JointMarks::new(self.n_joints()), Meets::new());
         while let Some(a) = work.pop() {
             if !self.alive[a] {
                 continue;
             }
-            if let Some(m) = self.find_merge(a) {
+            if let Some(m) = self.find_merge(a, &mut marks, &mut meets) {
                 let d = self.apply(m);
                 work.push(d);
             }
@@ -510,7 +651,7 @@ pub fn steps_from_base(clusters: &ClusterSet, n_joints: usize, f: [usize; 2]) ->
         // New joints of the built part: over-constraint checks and new candidates.
         std::mem::swap(&mut fresh, &mut batch);
         for &p in &batch {
-            for y in clusters.by_joint[p].iter().copied().filter(|&c| alive[c]) {
+            for y in clusters.by_joint.of(p).filter(|&c| alive[c]) {
                 if single_built(&placed_at, y) != Some(p) {
                     return None; // shares two joints: over-constrained
                 }
@@ -518,7 +659,7 @@ pub fn steps_from_base(clusters: &ClusterSet, n_joints: usize, f: [usize; 2]) ->
                     if placed_at[q] != usize::MAX {
                         continue;
                     }
-                    for z in clusters.by_joint[q].iter().copied().filter(|&c| alive[c]) {
+                    for z in clusters.by_joint.of(q).filter(|&c| alive[c]) {
                         if z == y || clusters.single_shared(y, z) != Some(q) {
                             continue;
                         }
