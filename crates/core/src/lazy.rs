@@ -33,8 +33,8 @@
 use crate::cayley_space::{CayleySpace, Method, Note, OrientedInterval};
 use crate::certify::{At, Certifier, Sign};
 use crate::real::{Jet, Real, Slope};
-use crate::realize::{Construction, Event, Kind, RealizationType, Unrealizable};
-use std::cell::Cell;
+use crate::realize::{Construction, Event, Kind, P2, RealizationType, Unrealizable};
+use std::cell::{Cell, RefCell};
 
 use crate::roots::{
     Endpoint, EndpointIds, Extremum, base_distance_jet, between, cmp, cosine_sample, newton, newton_from,
@@ -195,6 +195,10 @@ struct Walker<'a, T: Real> {
     known_end: Option<(T, Vec<Event>)>,
     /// Counted for [`WalkCounts`].
     steps_realized: Cell<usize>,
+    /// Positions reused by every probe (jets) and Newton evaluation
+    /// (slopes): a fresh block each time cost a long chain's walk page faults.
+    scratch: RefCell<Vec<P2<Jet<T>>>>,
+    slope_scratch: RefCell<Vec<P2<Slope<T>>>>,
     roots: Cell<usize>,
     newton_evaluations: Cell<usize>,
 }
@@ -247,6 +251,8 @@ impl<'a, T: Real> Walker<'a, T> {
             root_probe: None,
             known_end: None,
             steps_realized: Cell::new(0),
+            scratch: RefCell::new(Vec::new()),
+            slope_scratch: RefCell::new(Vec::new()),
             roots: Cell::new(0),
             newton_evaluations: Cell::new(0),
         }
@@ -258,7 +264,7 @@ impl<'a, T: Real> Walker<'a, T> {
     }
 
     fn probe(&self, bits: &[bool], lambda: T) -> Probe<T> {
-        let d = self.jet.base_distances(Jet::variable(lambda), bits);
+        let d = self.jet.base_distances_in(&mut self.scratch.borrow_mut(), Jet::variable(lambda), bits);
         self.count_steps(d.len());
         Probe { lambda, d }
     }
@@ -289,7 +295,8 @@ impl<'a, T: Real> Walker<'a, T> {
     /// numbers, from a realization without curvatures.
     fn slack_slope_at(&self, s: Along<T>, lambda: T) -> Option<(T, T)> {
         self.count_steps(s.k + 1);
-        let pos = self.slopes.realize_prefix(Slope::variable(lambda), s.bits, s.k).ok()?;
+        let mut pos = self.slope_scratch.borrow_mut();
+        self.slopes.realize_prefix_into(&mut pos, Slope::variable(lambda), s.bits, s.k).ok()?;
         let d = self.slopes.base_distance(&pos, s.k);
         if !d.v.to_f64().is_finite() {
             return None;

@@ -525,6 +525,18 @@ impl<T: Real> Construction<T> {
         self.realize_flat(lambda, bits, upto, &[])
     }
 
+    /// [`Self::realize_prefix`] into `pos` (its allocation reused; see
+    /// [`Self::base_distances_in`]).
+    pub fn realize_prefix_into(
+        &self,
+        pos: &mut Vec<P2<T>>,
+        lambda: T,
+        bits: &[bool],
+        upto: usize,
+    ) -> Result<(), Unrealizable> {
+        self.realize_steps_into(pos, lambda, bits, upto, &[], tolerance::FEASIBLE * self.scale, None)
+    }
+
     /// Realize with the steps in `flat` placed exactly flat (height zero):
     /// at an interval endpoint the flat step's height is otherwise √(rounding),
     /// and the two types meeting there would differ by that much.
@@ -543,8 +555,16 @@ impl<T: Real> Construction<T> {
     /// Slack down to −[`tolerance::FEASIBLE`]·scale counts as flat, as in
     /// [`Self::realize`], so the distances continue through an exact endpoint.
     pub fn base_distances(&self, lambda: T, bits: &[bool]) -> Vec<T> {
+        self.base_distances_in(&mut Vec::new(), lambda, bits)
+    }
+
+    /// [`Self::base_distances`], realizing in `scratch` (its allocation
+    /// reused: a walk along a long chain realizes thousands of times, and a
+    /// fresh block of positions each time cost it page faults).
+    pub fn base_distances_in(&self, scratch: &mut Vec<P2<T>>, lambda: T, bits: &[bool]) -> Vec<T> {
         let mut d = Vec::with_capacity(self.steps.len());
-        let _ = self.realize_steps(lambda, bits, self.steps.len(), &[], tolerance::FEASIBLE * self.scale, Some(&mut d));
+        let tol = tolerance::FEASIBLE * self.scale;
+        let _ = self.realize_steps_into(scratch, lambda, bits, self.steps.len(), &[], tol, Some(&mut d));
         d
     }
 
@@ -575,26 +595,49 @@ impl<T: Real> Construction<T> {
         upto: usize,
         flat: &[usize],
         tol: f64,
-        mut distances: Option<&mut Vec<T>>,
+        distances: Option<&mut Vec<T>>,
     ) -> Result<Vec<P2<T>>, Unrealizable> {
-        let mut pos = self.start(lambda);
+        let mut pos = Vec::new();
+        self.realize_steps_into(&mut pos, lambda, bits, upto, flat, tol, distances).map(|()| pos)
+    }
+
+    /// [`Self::realize_steps`] into `pos`, which it clears first.
+    #[allow(clippy::too_many_arguments)]
+    fn realize_steps_into(
+        &self,
+        pos: &mut Vec<P2<T>>,
+        lambda: T,
+        bits: &[bool],
+        upto: usize,
+        flat: &[usize],
+        tol: f64,
+        mut distances: Option<&mut Vec<T>>,
+    ) -> Result<(), Unrealizable> {
+        self.start_into(pos, lambda);
         for (k, &plus) in bits.iter().enumerate().take(upto.min(self.steps.len())) {
-            let (dk, placed) = self.place_step(&mut pos, k, plus, flat.contains(&k), tol);
+            let (dk, placed) = self.place_step(pos, k, plus, flat.contains(&k), tol);
             if let Some(d) = distances.as_deref_mut() {
                 d.push(dk);
             }
             placed?;
         }
-        Ok(pos)
+        Ok(())
     }
 
     /// The joint positions before any step: base joint b at (λ, 0), every
     /// other joint at the origin.
     pub fn start(&self, lambda: T) -> Vec<P2<T>> {
-        let zero = T::zero();
-        let mut pos = vec![[zero, zero]; self.n_joints];
-        pos[self.base[1]] = [lambda, zero];
+        let mut pos = Vec::new();
+        self.start_into(&mut pos, lambda);
         pos
+    }
+
+    /// [`Self::start`] in `pos` (cleared first, its allocation reused).
+    fn start_into(&self, pos: &mut Vec<P2<T>>, lambda: T) {
+        let zero = T::zero();
+        pos.clear();
+        pos.resize(self.n_joints, [zero, zero]);
+        pos[self.base[1]] = [lambda, zero];
     }
 
     /// Step `k` on positions where the steps before it are placed: its base
