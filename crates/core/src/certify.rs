@@ -347,18 +347,14 @@ impl Certifier {
         // where even that would not exclude zero.
         let shrink = Dd::UNIT_ROUNDOFF / f64::UNIT_ROUNDOFF * tolerance::DD_BALL_SHRINK_MARGIN;
         let hopeless = |v: &Value| v.radius.zip(v.midpoint).is_some_and(|(r, m)| r * shrink > m.abs());
-        // Only the steps up to the last one they might prove: on a deep
-        // chain, past a few dozen levels every slack is hopeless.
-        let ball_upto =
-            fast.iter().zip(questions).filter(|(v, _)| v.proven.is_none() && !hopeless(v)).map(|(_, &(k, _))| k).max();
+        let balls = !fast.iter().filter(|v| v.proven.is_none()).all(hopeless);
         // A sketch whose shapes close in f64 but not in double-double (a
         // triangle at the feasibility tolerance): nothing more to prove with.
         let Some(dd) = self.dd_constructions() else {
             return fast.iter().map(|f| f.proven.unwrap_or(Sign::Zero)).collect();
         };
-        let mut enclose = |l: Ball<Dd>| dd.balls.base_distances_flat(l, bits, ball_upto.unwrap_or(upto), &flat);
-        let enclose: Option<&mut dyn FnMut(Ball<Dd>) -> Vec<Ball<Dd>>> =
-            if ball_upto.is_some() { Some(&mut enclose) } else { None };
+        let mut enclose = |l: Ball<Dd>| dd.balls.base_distances_flat(l, bits, upto, &flat);
+        let enclose: Option<&mut dyn FnMut(Ball<Dd>) -> Vec<Ball<Dd>>> = if balls { Some(&mut enclose) } else { None };
         let fine = self.evaluate(&dd.balls, &dd.plain, bits, at, refined, upto, questions, &flat, enclose);
         fast.iter().zip(&fine).map(|(f, d)| f.proven.or(d.proven).unwrap_or_else(|| self.estimate(f, d))).collect()
     }
