@@ -462,15 +462,24 @@ const RADIUS_ROUNDING: f64 = 1.0 + 1e-14;
 
 /// A ball operation's result at least this large (about 2^-797) cannot have
 /// underflowed, nor can a double-double's low parts or the error terms of
-/// its operations (2^-106 below it), so its own rounding is relative only;
+/// a sum or product (2^-106 below it), so its own rounding is relative only;
 /// the radius terms beside it may underflow, each losing at most 2^-1075,
 /// which that relative term (at least 2^-902) covers. Below it, an absolute
-/// [`f64::MIN_POSITIVE`] covers underflow. Keeping that term off ordinary
-/// results keeps their radii normal numbers: a radius near
+/// [`f64::MIN_POSITIVE`] covers underflow. A quotient or square root is
+/// different: a double-double's remainder terms there scale with the
+/// dividend or radicand, so below this those operations add
+/// [`UNDERFLOW_LOSS`] over the divisor's (or root's) size whatever their
+/// result. Keeping the absolute term off
+/// ordinary results keeps their radii normal numbers: a radius near
 /// `MIN_POSITIVE` times a magnitude below 1 is subnormal, and subnormal
 /// operands and results cost the processor a microcode assist on every
 /// operation (about a third of a certified analysis's time, before).
 const UNDERFLOW_FREE: f64 = 1e-240;
+
+/// What the few remainder terms of one double-double division or square
+/// root can lose to underflow together: each at most half the smallest
+/// subnormal, and sixteen of those cover them all.
+const UNDERFLOW_LOSS: f64 = 16.0 * 4.940_656_458_412_465_4e-324;
 
 impl<T: Real> Ball<T> {
     /// The ball of radius 0 around `m` (an exactly known value).
@@ -548,7 +557,9 @@ impl<T: Real> Div for Ball<T> {
         if below.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
             return Ball { m, r: f64::INFINITY };
         }
-        Ball::rounded(m, (self.r + Self::mag(m) * o.r) / below)
+        // A tiny dividend's remainder terms may underflow (see UNDERFLOW_FREE).
+        let tiny = if Self::mag(self.m) < UNDERFLOW_FREE { UNDERFLOW_LOSS } else { 0.0 };
+        Ball::rounded(m, (self.r + Self::mag(m) * o.r + tiny) / below)
     }
 }
 impl<T: Real> PartialOrd for Ball<T> {
@@ -592,7 +603,9 @@ impl<T: Real> Real for Ball<T> {
         // |√x − √m| ≤ r / (√m + √(m − r)), and √(m − r) ≥ √m·(1 − r/m)
         // (√(1 − t) ≥ 1 − t on [0, 1]): no second square root, and a bound
         // looser only by the relative r/(2m).
-        Ball::rounded(root, self.r / (centre * (2.0 - self.r / m)))
+        // A tiny radicand's Newton correction may underflow (see UNDERFLOW_FREE).
+        let tiny = if m < UNDERFLOW_FREE { UNDERFLOW_LOSS / centre } else { 0.0 };
+        Ball::rounded(root, self.r / (centre * (2.0 - self.r / m)) + tiny)
     }
     fn clamp_nonneg(self) -> Self {
         // max(·, 0) is 1-Lipschitz: the radius carries over.
@@ -695,6 +708,18 @@ mod tests {
         // A quotient near the underflow threshold keeps an absolute cover.
         let q = exact(1e-300) / exact(3e10);
         assert!(q.r >= f64::MIN_POSITIVE && (q.m - 1e-300 / 3e10).abs() <= q.r);
+        // Double-double quotients and roots of tiny operands (normal
+        // results, but remainder terms that underflow, up to 1e-23 of the
+        // value) are still enclosed. The operands are full-width numbers
+        // times 2^-1000: the same operation on them unscaled is the reference.
+        let tiny = 2f64.powi(-1000);
+        let (x, y) = (0.737_512_345_678_901_2, 2.918_273_645_546_372_8);
+        let dd = |v: f64| Ball::<Dd>::exact(Dd::new(v * tiny));
+        let q = dd(x) / dd(y);
+        assert!((q.m - Dd::new(x) / Dd::new(y)).to_f64().abs() <= q.r && q.r < 1e-20);
+        let root = dd(y).sqrt();
+        let want = Dd::new(y).sqrt() * Dd::new(2f64.powi(-500));
+        assert!((root.m - want).to_f64().abs() <= root.r && root.r < 1e-20 * want.to_f64());
     }
 
     #[test]

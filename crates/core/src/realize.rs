@@ -309,7 +309,10 @@ fn apex_flat<T: Real>(
     let zero = T::zero();
     // h = d·√(dimensionless product): no product of lengths, so no overflow
     // or underflow at any scale f64 can represent.
-    let (h2, along, ex, ey) = if T::APEX_BY_RECIPROCAL {
+    // 1/d keeps double-double precision only while its low part is normal.
+    let magnitude = d.to_f64().abs();
+    let by_reciprocal = T::APEX_BY_RECIPROCAL && magnitude > RECIPROCAL_RANGE[0] && magnitude < RECIPROCAL_RANGE[1];
+    let (h2, along, ex, ey) = if by_reciprocal {
         let inv = T::from_f64(1.0) / d;
         let half_inv = inv * T::from_f64(0.5);
         let h2 = ((r1 + r2 + d) * half_inv * (stretch.clamp_nonneg() * inv))
@@ -325,6 +328,10 @@ fn apex_flat<T: Real>(
     let h = if plus { h } else { -h };
     Ok([pu[0] + along * ex - h * ey, pu[1] + along * ey + h * ex])
 }
+
+/// Base lengths whose reciprocal (and its double-double low part) stays a
+/// normal number: outside, the apex divides as written.
+const RECIPROCAL_RANGE: [f64; 2] = [1e-290, 1e290];
 
 /// Maps `x` rigidly (rotation + translation, never a reflection) so that the
 /// local points `p0`, `p1` go to `q0`, `q1` (assumed at the same distance).
