@@ -14,7 +14,7 @@ use caymos::scene::Scene;
 use caymos::schema::{ErrorBody, ErrorDoc, ErrorKind, ListDoc, ListedScene, SceneOrigin, Versioned};
 
 /// See Cargo.toml: small vectors per certified question made glibc's
-/// allocator a third of a small scene's analysis.
+/// allocator about a fifth of a small scene's analysis.
 #[global_allocator]
 static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
 

@@ -278,11 +278,12 @@ fn the_marker_of_the_value_now_is_under_its_column() {
 }
 
 /// A sweep's samples skip the double-double self-check: it refines the ends'
-/// λ and never the structure. Checked on every bundled scene and hard case
-/// (full analyses) and on a 30-step chain (the lazy walk): the same oriented
-/// intervals with the same events, components and non-oriented pieces.
+/// λ within the f64 error, which could change a structure only at a
+/// non-generic place. On every bundled scene and hard case (full analyses)
+/// and on a 30-step chain (the lazy walk): the same oriented intervals with
+/// the same events and point intervals, components and non-oriented pieces.
 #[test]
-fn the_self_check_never_changes_the_structure() {
+fn the_self_check_keeps_the_structure_of_every_bundled_scene() {
     use caymos::analysis::{Scope, SelfCheck, analyse_checked};
     let mut scenes: Vec<_> = caymos::bundled::BUNDLED.iter().map(|b| caymos::bundled::load(b.name).unwrap()).collect();
     scenes.extend(caymos::generate::hard_cases());
@@ -301,7 +302,10 @@ fn the_self_check_never_changes_the_structure() {
                 .space
                 .intervals
                 .iter()
-                .map(|iv| (iv.ty.clone(), iv.lower.events.clone(), iv.upper.events.clone()))
+                .map(|iv| {
+                    let point = iv.lower.lambda == iv.upper.lambda;
+                    (iv.ty.clone(), iv.lower.events.clone(), iv.upper.events.clone(), point)
+                })
                 .collect();
             let comps: Vec<_> = s.components.list.iter().map(|c| c.intervals.clone()).collect();
             (ivs, comps, s.union.len(), s.components.branch_points.len())

@@ -70,7 +70,7 @@ pub const LAZY_ABOVE_STEPS: usize = 16;
 
 /// The lazy analysis checks itself up to this many steps, by refining its
 /// ends in double-double ([`lazy_reference_accuracy`]: a few realizations
-/// per end, a fraction of the walk: about two thirds of it on a 1000-step
+/// per end, a fraction of the walk: about two fifths of it on a 1000-step
 /// chain), and then shows the refined ends. It was 128 when the check was a
 /// second walk in double-double; beyond the cap the f64 ends are shown.
 pub const LAZY_REFERENCE_MAX_STEPS: usize = 4096;

@@ -3,8 +3,9 @@
 //! where its structure changes.
 //!
 //! Each sample is a full [`analyse`](crate::analysis::analyse_checked) of the
-//! edited scene, without the double-double self-check (it refines only the
-//! ends' λ, never the structure), summarised as a [`Structure`]: the class, every oriented
+//! edited scene, without the double-double self-check (it refines the ends'
+//! λ within the f64 error, which changes a structure only at a non-generic
+//! place), summarised as a [`Structure`]: the class, every oriented
 //! interval as (type, flat steps at each end), the number of non-oriented
 //! pieces, the component sizes, the branch points and (with an input bar)
 //! which components turn it fully. Every part of it is decided by the
@@ -244,7 +245,7 @@ pub struct SweepSample {
     pub class: Class,
     /// The non-oriented Cayley space. Its ends (and the components' λ
     /// below) are the f64 analysis's, not refined by the self-check: within
-    /// a few ulps of the double-double ends that `report` shows.
+    /// that analysis's error of the double-double ends that `report` shows.
     pub union: Vec<[f64; 2]>,
     /// How many oriented intervals.
     pub oriented_intervals: usize,
