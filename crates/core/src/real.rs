@@ -479,7 +479,7 @@ const UNDERFLOW_FREE: f64 = 1e-240;
 /// What the few remainder terms of one double-double division or square
 /// root can lose to underflow together: each at most half the smallest
 /// subnormal, and sixteen of those cover them all.
-const UNDERFLOW_LOSS: f64 = 16.0 * 4.940_656_458_412_465_4e-324;
+const UNDERFLOW_LOSS: f64 = 16.0 * f64::from_bits(1);
 
 impl<T: Real> Ball<T> {
     /// The ball of radius 0 around `m` (an exactly known value).
@@ -713,7 +713,7 @@ mod tests {
         // value) are still enclosed. The operands are full-width numbers
         // times 2^-1000: the same operation on them unscaled is the reference.
         let tiny = 2f64.powi(-1000);
-        let (x, y) = (0.737_512_345_678_901_2, 2.918_273_645_546_372_8);
+        let (x, y) = (0.737_512_345_678_901, 2.918_273_645_546_372);
         let dd = |v: f64| Ball::<Dd>::exact(Dd::new(v * tiny));
         let q = dd(x) / dd(y);
         assert!((q.m - Dd::new(x) / Dd::new(y)).to_f64().abs() <= q.r && q.r < 1e-20);
