@@ -231,16 +231,21 @@ proptest! {
     }
 }
 
-#[test]
-fn a_sample_on_the_transition_still_gives_one_transition() {
-    // 6 samples from 0.5 to 3: sample 4 is AB = 2.5 itself, where two steps are
-    // flat at once; the brackets either side of it are one transition.
-    let setup = Setup {
+/// The crank-rocker with bar A–B's length swept.
+fn crank_rocker_ab() -> Setup {
+    Setup {
         scene: caymos::bundled::load("fourbar-crank-rocker").unwrap(),
         parameter: Parameter::BarLength(0),
         base: None,
         input: None,
-    };
+    }
+}
+
+#[test]
+fn a_sample_on_the_transition_still_gives_one_transition() {
+    // 6 samples from 0.5 to 3: sample 4 is AB = 2.5 itself, where two steps are
+    // flat at once; the brackets either side of it are one transition.
+    let setup = crank_rocker_ab();
     let (samples, transitions) = sweep(&setup, 0.5, 3.0, 6, Shard::ALL);
     assert_eq!(samples[4].value, 2.5);
     assert_eq!(samples[4].structure.branch_points, 2, "non-generic at 2.5: {:?}", samples[4].structure);
@@ -255,12 +260,7 @@ fn a_sample_on_the_transition_still_gives_one_transition() {
 /// words fit right of it, left of it or only on a line of their own.
 #[test]
 fn the_marker_of_the_value_now_is_under_its_column() {
-    let setup = Setup {
-        scene: caymos::bundled::load("fourbar-crank-rocker").unwrap(),
-        parameter: Parameter::BarLength(0),
-        base: None,
-        input: None,
-    };
+    let setup = crank_rocker_ab();
     let r = caymos::commands::sweep_report(&setup, 0.2, 2.0, 2, Shard::ALL);
     for width in [23, 30, 50, 80] {
         let cols = (width - 7).min(16);

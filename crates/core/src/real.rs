@@ -57,11 +57,14 @@ pub trait Real:
     /// formula as written (the walk's jets and the plain realization agree
     /// bit for bit).
     const APEX_BY_RECIPROCAL: bool = false;
+    /// Where [`Self::hypot`] may square its components directly: sizes
+    /// (the larger component) whose squares keep the type's precision. Set
+    /// where a division costs far more than a product ([`Ball`], [`Dd`]);
+    /// `None`: always scaled, so values stay those of one formula.
+    const HYPOT_SQUARES: Option<[f64; 2]> = None;
     /// √(x² + y²) without squaring a length: scaled by the larger of |x|, |y|
-    /// so that scenes near 1e±300 neither overflow nor underflow.
-    /// Types whose division is dear ([`Self::APEX_BY_RECIPROCAL`]) square
-    /// directly where the squares keep their full precision
-    /// ([`HYPOT_SQUARE_RANGE`]): two divisions fewer.
+    /// so that scenes near 1e±300 neither overflow nor underflow; squared
+    /// directly within [`Self::HYPOT_SQUARES`] (two divisions fewer).
     fn hypot(x: Self, y: Self) -> Self {
         let (ax, ay) = (x.abs(), y.abs());
         let m = if ax > ay { ax } else { ay };
@@ -69,7 +72,7 @@ pub trait Real:
             return m;
         }
         let big = m.to_f64();
-        if Self::APEX_BY_RECIPROCAL && big > HYPOT_SQUARE_RANGE[0] && big < HYPOT_SQUARE_RANGE[1] {
+        if Self::HYPOT_SQUARES.is_some_and(|[lo, hi]| big > lo && big < hi) {
             return (x * x + y * y).sqrt();
         }
         let (u, v) = (x / m, y / m);
@@ -198,6 +201,9 @@ impl PartialOrd for Dd {
 impl Real for Dd {
     const UNIT_ROUNDOFF: f64 = 1.232_595_164_407_831e-32; // 2^-106
     const APEX_BY_RECIPROCAL: bool = true;
+    /// Components of this size square with every part of the product (down
+    /// to 2^-106 of it) a normal number.
+    const HYPOT_SQUARES: Option<[f64; 2]> = Some([1e-100, 1e100]);
     fn from_f64(x: f64) -> Self {
         Dd::new(x)
     }
@@ -291,6 +297,7 @@ impl<T: Real> PartialOrd for Jet<T> {
 impl<T: Real> Real for Jet<T> {
     const UNIT_ROUNDOFF: f64 = T::UNIT_ROUNDOFF;
     const APEX_BY_RECIPROCAL: bool = T::APEX_BY_RECIPROCAL;
+    const HYPOT_SQUARES: Option<[f64; 2]> = T::HYPOT_SQUARES;
     fn from_f64(x: f64) -> Self {
         Jet::constant(T::from_f64(x))
     }
@@ -376,6 +383,7 @@ impl<T: Real> PartialOrd for Slope<T> {
 impl<T: Real> Real for Slope<T> {
     const UNIT_ROUNDOFF: f64 = T::UNIT_ROUNDOFF;
     const APEX_BY_RECIPROCAL: bool = T::APEX_BY_RECIPROCAL;
+    const HYPOT_SQUARES: Option<[f64; 2]> = T::HYPOT_SQUARES;
     fn from_f64(x: f64) -> Self {
         Slope::constant(T::from_f64(x))
     }
@@ -578,6 +586,11 @@ impl<T: Real> Real for Ball<T> {
     /// the radii cover (each product adds its own rounding, an underflowing
     /// one is covered by the radius's absolute term).
     const APEX_BY_RECIPROCAL: bool = true;
+    /// Components of this size square without overflow, and their squares
+    /// stay normal (the sum then carries their rounding in its radius; an
+    /// underflowing smaller square is covered by the radius's absolute
+    /// term): the hot path of every certified decision.
+    const HYPOT_SQUARES: Option<[f64; 2]> = Some([1e-140, 1e140]);
     fn from_f64(x: f64) -> Self {
         Ball::exact(T::from_f64(x))
     }
@@ -611,32 +624,7 @@ impl<T: Real> Real for Ball<T> {
         // max(·, 0) is 1-Lipschitz: the radius carries over.
         Ball { m: self.m.clamp_nonneg_plain(), r: self.r }
     }
-    /// √(x² + y²) directly where the squares stay in f64's normal range
-    /// (two ball divisions fewer than the scaled form, the hot path of every
-    /// certified decision); scaled by the larger component elsewhere. An
-    /// underflowing smaller square is covered by the radius's absolute term.
-    fn hypot(x: Self, y: Self) -> Self {
-        let big = Self::mag(x.m).max(Self::mag(y.m));
-        if big > HYPOT_DIRECT_RANGE[0] && big < HYPOT_DIRECT_RANGE[1] {
-            return (x * x + y * y).sqrt();
-        }
-        let (ax, ay) = (x.abs(), y.abs());
-        let m = if ax > ay { ax } else { ay };
-        if m.partial_cmp(&Self::zero()) != Some(std::cmp::Ordering::Greater) {
-            return m;
-        }
-        let (u, v) = (x / m, y / m);
-        m * (u * u + v * v).sqrt()
-    }
 }
-
-/// Components of this size square without overflow, and their squares
-/// stay normal (the sum then carries their rounding in its radius).
-const HYPOT_DIRECT_RANGE: [f64; 2] = [1e-140, 1e140];
-
-/// Components of this size square in double-double with every part of the
-/// product (down to 2^-106 of it) a normal number.
-const HYPOT_SQUARE_RANGE: [f64; 2] = [1e-100, 1e100];
 
 #[cfg(test)]
 mod tests {
