@@ -103,6 +103,12 @@ pub struct ComponentReport {
     pub contains_drawn: bool,
     /// False only at a non-generic branch point or dead end.
     pub closed: bool,
+    /// The connected set of the realization space it belongs to (from 1):
+    /// components that meet at a branch point share a realization there.
+    /// In a generic scene each component is a set of its own. (A motion
+    /// branch this base sees only as a dead end or a degenerate piece can
+    /// join sets further.)
+    pub connected_set: ComponentNo,
 }
 
 /// The arithmetic the f64 endpoints are checked against.
@@ -390,12 +396,14 @@ impl Report {
                 if !s.lazy {
                     r.numeric_steps = s.space.numeric_steps.iter().map(|&k| StepNo::of_index(k)).collect();
                 }
+                let sets = s.components.connected_sets();
                 r.components = s
                     .components
                     .list
                     .iter()
                     .enumerate()
                     .map(|(k, c)| ComponentReport {
+                        connected_set: ComponentNo::of_index(sets[k]),
                         component: ComponentNo::of_index(k),
                         intervals: c.intervals.clone(),
                         lambda_range: c.lambda_range,
@@ -617,11 +625,17 @@ impl Report {
             let _ = writeln!(o, "{:<24}0: {}", "Components", why.message);
             return;
         }
+        let sets = self.components.iter().map(|c| c.connected_set.index() + 1).max().unwrap_or(0);
         let _ = writeln!(
             o,
-            "{:<24}{}{}",
+            "{:<24}{}{}{}",
             "Components",
             self.components.len(),
+            if sets < self.components.len() {
+                format!(", meeting at branch points in {sets} connected set{}", if sets == 1 { "" } else { "s" })
+            } else {
+                String::new()
+            },
             if self.mirror_pairs { " (all clusters achiral: mirror images share Cayley vectors)" } else { "" }
         );
         let rows: Vec<[String; 4]> = self

@@ -396,7 +396,17 @@ impl<T: Real> Sweep<'_, T> {
         }
         let n_gaps = inside.len() + 1;
         // Walk the gaps, emitting maximal feasible runs and isolated roots.
+        // An end where step k is proven flat and closes, beside a gap where
+        // it does not, is an isolated point of its own (step k touches the
+        // piece's end from outside: two steps flat at one λ).
+        let isolated_end = |flat: &[Root<T>], signs: [Sign; 2], gap: bool| {
+            !gap && !flat.is_empty() && !signs.contains(&Sign::Negative) && !signs.contains(&Sign::Undefined)
+        };
         let mut out = Vec::new();
+        if isolated_end(&at_lo, ends[0], feasible[0]) {
+            let p = self.with_coincident(piece.lo.clone(), &at_lo, k);
+            out.push(Piece { lo: p.clone(), hi: p });
+        }
         let mut start: Option<Endpoint<T>> = None;
         for g in 0..n_gaps {
             if feasible[g] && start.is_none() {
@@ -411,6 +421,9 @@ impl<T: Real> Sweep<'_, T> {
                 if let Some(lo) = start.take() {
                     let hi = self.with_coincident(piece.hi.clone(), &at_hi, k);
                     out.push(Piece { lo, hi });
+                } else if isolated_end(&at_hi, ends[1], feasible[g]) {
+                    let p = self.with_coincident(piece.hi.clone(), &at_hi, k);
+                    out.push(Piece { lo: p.clone(), hi: p });
                 }
                 break;
             }

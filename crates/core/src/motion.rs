@@ -66,6 +66,51 @@ pub struct Components {
     pub branch_points: Vec<BranchPoint>,
 }
 
+impl Components {
+    /// The connected sets of the realization space: listed components that
+    /// meet at a branch point share a realization there, so they are one
+    /// set. Per listed component, its set's index (sets numbered in order
+    /// of their first component). In a generic scene every component is
+    /// its own set; at a branch point the listing depends on the walk (and
+    /// so on the base), the sets do not, except where a branch of the
+    /// motion collapses onto one λ on this base (a step's base joints
+    /// coinciding, [`crate::cayley_space::Note::Degenerate`], or a dead
+    /// end): components joined only through it stay apart here.
+    pub fn connected_sets(&self) -> Vec<usize> {
+        let mut parent: Vec<usize> = (0..self.list.len()).collect();
+        fn root(parent: &mut [usize], mut c: usize) -> usize {
+            while parent[c] != c {
+                parent[c] = parent[parent[c]];
+                c = parent[c];
+            }
+            c
+        }
+        for b in &self.branch_points {
+            for &o in &b.options {
+                let (x, y) = (root(&mut parent, self.of_interval[b.from]), root(&mut parent, self.of_interval[o]));
+                parent[x.max(y)] = x.min(y);
+            }
+        }
+        let mut number = vec![usize::MAX; self.list.len()];
+        let mut sets = 0;
+        (0..self.list.len())
+            .map(|c| {
+                let r = root(&mut parent, c);
+                if number[r] == usize::MAX {
+                    number[r] = sets;
+                    sets += 1;
+                }
+                number[r]
+            })
+            .collect()
+    }
+
+    /// How many connected sets the realization space has ([`Components::connected_sets`]).
+    pub fn connected_set_count(&self) -> usize {
+        self.connected_sets().into_iter().max().map_or(0, |m| m + 1)
+    }
+}
+
 fn end(i: &OrientedInterval<f64>, side: Side) -> &crate::roots::Endpoint<f64> {
     match side {
         Side::Lower => &i.lower,
