@@ -223,6 +223,29 @@ fn assert_base_invariant(scene: &Scene) {
     }
 }
 
+/// The exact tangency with every length and coordinate multiplied by
+/// 10^exponent as written (decimal exponents, so exact relations stay exact).
+fn tangency_scaled(exponent: i32) -> Scene {
+    let mut scene = caymos::generate::tangency();
+    let scaled = |x: f64| {
+        let text = format!("{x}e{exponent}");
+        (text.parse::<f64>().unwrap(), Dd::parse_decimal(&text).unwrap())
+    };
+    for j in &mut scene.joints {
+        let (x, y) = (scaled(j.pos[0]), scaled(j.pos[1]));
+        j.pos = [x.0, y.0];
+        j.exact = [x.1, y.1];
+    }
+    for b in &mut scene.bars {
+        if let Some(l) = b.length {
+            let (v, exact) = scaled(l);
+            b.length = Some(v);
+            b.exact_length = Some(exact);
+        }
+    }
+    scene
+}
+
 /// The hard cases (THEORY.md §6) on every valid base. The exact tangency is
 /// one isolated realization: on bases v1–v2 and p–q both steps are flat
 /// there at once (p folded, q stretched at λ = 7 = 10 − 3 = 4 + 3), so the
@@ -239,6 +262,19 @@ fn hard_cases_have_the_same_connected_sets_on_every_valid_base() {
         for base in s.dec.other_bases(&a.linkage) {
             let (_, t) = solve_with(scene.clone(), Some(base), Scope::Full);
             assert_eq!(t.components.connected_set_count(), sets, "{}: base {base:?} vs {:?}", scene.name, s.dec.base);
+        }
+    }
+    // The tangency again at 1e±150, every number scaled as written (so
+    // 10 − 3 = 4 + 3 stays exact): the same point on every base.
+    for exponent in [150, -150] {
+        let scene = tangency_scaled(exponent);
+        let (a, s) = solve(scene.clone());
+        assert_eq!(s.components.connected_set_count(), 1, "1e{exponent}");
+        for base in s.dec.other_bases(&a.linkage) {
+            let (_, t) = solve_with(scene.clone(), Some(base), Scope::Full);
+            assert_eq!(t.components.connected_set_count(), 1, "1e{exponent}: base {base:?}");
+            assert_eq!(t.union.len(), 1, "1e{exponent}: base {base:?}");
+            assert_eq!(t.union[0][0], t.union[0][1], "1e{exponent}: base {base:?}: one point");
         }
     }
     let scene = caymos::generate::tangency();
