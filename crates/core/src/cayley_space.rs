@@ -18,13 +18,17 @@
 //!
 //! Generic over the scalar type so that a double-double run is the reference.
 
+use std::cell::RefCell;
+
 use crate::certify::{At as Place, Certifier, Closes, Prefixes, Sign};
 use crate::complexity::Complexity;
 use crate::decompose::Decomposition;
 use crate::invert::Inverter;
 use crate::real::{Jet, Real};
-use crate::realize::{Construction, Event, Kind, RealizationType};
-use crate::roots::{Endpoint, EndpointIds, Extremum, base_distance_jet, bisect, cmp, cosine_sample, side_signs, sign};
+use crate::realize::{Construction, Event, Kind, P2, RealizationType};
+use crate::roots::{
+    Endpoint, EndpointIds, Extremum, base_distance_jet_in, bisect, cmp, cosine_sample, side_signs, sign,
+};
 use crate::tolerance;
 
 /// A maximal closed λ-interval on which one realization type exists
@@ -185,6 +189,8 @@ struct Sweep<'a, T: Real> {
     out: Vec<OrientedInterval<T>>,
     /// The certifier's realized prefixes at the places this sweep asks about.
     prefixes: Prefixes,
+    /// Joint positions of the last jet realization (reused).
+    positions: RefCell<Vec<P2<Jet<T>>>>,
 }
 
 /// Compute the oriented intervals of every type.
@@ -229,6 +235,7 @@ pub fn cayley_space<T: Real>(
         notes: Vec::new(),
         out: Vec::new(),
         prefixes: Prefixes::default(),
+        positions: RefCell::new(Vec::new()),
     };
     // Start from (0, sentinel): every root of the first step lies below the sentinel.
     let top = (0..n)
@@ -239,7 +246,7 @@ pub fn cayley_space<T: Real>(
     let lo = sweep.ids.make(T::zero(), Vec::new());
     let hi = sweep.ids.make(top, Vec::new());
     let mut bits = Vec::with_capacity(n);
-    sweep.descend(0, &mut bits, vec![Piece { lo, hi }]);
+    sweep.descend(0, &mut bits, &[Piece { lo, hi }]);
     let mut intervals = sweep.out;
     intervals.sort_by(|a, b| a.ty.cmp(&b.ty).then(cmp(&a.lower.lambda, &b.lower.lambda)));
     let mut notes = sweep.notes;
@@ -248,27 +255,32 @@ pub fn cayley_space<T: Real>(
 }
 
 impl<T: Real> Sweep<'_, T> {
-    fn descend(&mut self, k: usize, bits: &mut Vec<bool>, pieces: Vec<Piece<T>>) {
+    fn descend(&mut self, k: usize, bits: &mut Vec<bool>, pieces: &[Piece<T>]) {
         if k == self.con.steps.len() {
             for p in pieces {
-                self.out.push(OrientedInterval { ty: RealizationType(bits.clone()), lower: p.lo, upper: p.hi });
+                let ty = RealizationType(bits.clone());
+                self.out.push(OrientedInterval { ty, lower: p.lo.clone(), upper: p.hi.clone() });
             }
             return;
         }
-        let refined: Vec<Piece<T>> = pieces.into_iter().flat_map(|p| self.refine(k, bits, p)).collect();
+        let mut refined: Vec<Piece<T>> = Vec::new();
+        for p in pieces {
+            refined.extend(self.refine(k, bits, p));
+        }
         if refined.is_empty() {
             return;
         }
         for b in [true, false] {
             bits.push(b);
-            self.descend(k + 1, bits, refined.clone());
+            self.descend(k + 1, bits, &refined);
             bits.pop();
         }
     }
 
-    /// d_k at λ for the prefix `bits`, with its first and second derivative.
+    /// d_k at λ for the prefix `bits`, with its first and second derivative
+    /// (realized into the sweep's one block of positions).
     fn distance(&self, k: usize, bits: &[bool], lambda: T) -> Option<Jet<T>> {
-        base_distance_jet(&self.jet, bits, k, lambda)
+        base_distance_jet_in(&self.jet, &mut self.positions.borrow_mut(), bits, k, lambda)
     }
 
     /// Slack of step k as a jet (value, slope, curvature).
@@ -285,9 +297,7 @@ impl<T: Real> Sweep<'_, T> {
     /// Proven signs of step k's slacks ([stretched, folded]) at a piece end.
     fn end_signs(&mut self, k: usize, bits: &[bool], end: &Endpoint<T>) -> [Sign; 2] {
         let at = Place { lambda: end.lambda.to_f64(), events: &end.events };
-        let s =
-            self.cert.slack_signs_in(Some(&mut self.prefixes), bits, at, &[(k, Kind::Stretched), (k, Kind::Folded)]);
-        [s[0], s[1]]
+        self.cert.slack_signs_kept(&mut self.prefixes, bits, at, [(k, Kind::Stretched), (k, Kind::Folded)])
     }
 
     /// The roots of d_k = target strictly inside `piece`, and at its ends
@@ -337,9 +347,9 @@ impl<T: Real> Sweep<'_, T> {
     /// it closes on a gap between roots is the proven sign at a point inside
     /// the gap; the slopes at the roots only decide gaps too narrow to hold
     /// a point of their own.
-    fn refine(&mut self, k: usize, bits: &[bool], piece: Piece<T>) -> Vec<Piece<T>> {
+    fn refine(&mut self, k: usize, bits: &[bool], piece: &Piece<T>) -> Vec<Piece<T>> {
         let ends = [self.end_signs(k, bits, &piece.lo), self.end_signs(k, bits, &piece.hi)];
-        let roots = self.roots(k, bits, &piece, ends);
+        let roots = self.roots(k, bits, piece, ends);
         if piece.lo.lambda == piece.hi.lambda {
             return self.refine_point(k, piece, &roots, ends[0]);
         }
@@ -387,7 +397,7 @@ impl<T: Real> Sweep<'_, T> {
             let r = inside[g];
             let same = feasible[g] == feasible[g + 1];
             let at = Place { lambda: r.lambda.to_f64(), events: &[] };
-            if same && self.cert.slack_signs_in(Some(&mut self.prefixes), bits, at, &[(k, r.kind)])[0] != Sign::Zero {
+            if same && self.cert.slack_signs_kept(&mut self.prefixes, bits, at, [(k, r.kind)])[0] != Sign::Zero {
                 inside.remove(g);
                 feasible.remove(g + 1);
             } else {
@@ -468,16 +478,16 @@ impl<T: Real> Sweep<'_, T> {
     /// An isolated point from earlier steps survives step k if k closes
     /// there (proven signs of both slacks, `signs`); where k is flat too,
     /// the point gains its event.
-    fn refine_point(&mut self, k: usize, piece: Piece<T>, roots: &[Root<T>], signs: [Sign; 2]) -> Vec<Piece<T>> {
+    fn refine_point(&mut self, k: usize, piece: &Piece<T>, roots: &[Root<T>], signs: [Sign; 2]) -> Vec<Piece<T>> {
         if signs.contains(&Sign::Negative) {
             return Vec::new();
         }
         let flat: Vec<Root<T>> = roots.iter().copied().filter(|r| r.at != At::Inside).collect();
         if !flat.is_empty() {
-            let lo = self.with_coincident(piece.lo, &flat, k);
+            let lo = self.with_coincident(piece.lo.clone(), &flat, k);
             return vec![Piece { lo: lo.clone(), hi: lo }];
         }
-        vec![piece]
+        vec![piece.clone()]
     }
 
     /// Add step k's flat events at an inherited endpoint (two steps flat at once).

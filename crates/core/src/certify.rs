@@ -88,6 +88,8 @@ type BracketKey = ([u64; 2], Event, u128, bool);
 #[derive(Debug, Default)]
 pub struct Prefixes {
     places: IntMap<PlaceKey, Realized>,
+    /// The last answer's distances (reused: no allocation per question).
+    view: Vec<Ball<f64>>,
 }
 
 /// A place: its λ ball (midpoint and radius bits) and its flat steps (bit i for step i).
@@ -117,6 +119,18 @@ impl Prefixes {
         upto: usize,
         flat: u128,
     ) -> Vec<Ball<f64>> {
+        self.distances_view(con, lambda, bits, upto, flat).to_vec()
+    }
+
+    /// [`Self::distances`], borrowed from the cache (kept until the next question).
+    fn distances_view(
+        &mut self,
+        con: &Construction<Ball<f64>>,
+        lambda: Ball<f64>,
+        bits: &[bool],
+        upto: usize,
+        flat: u128,
+    ) -> &[Ball<f64>] {
         let key = (lambda.m.to_bits(), lambda.r.to_bits(), flat);
         if self.places.len() >= tolerance::PREFIX_PLACES && !self.places.contains_key(&key) {
             self.places.clear();
@@ -140,23 +154,29 @@ impl Prefixes {
             let (dk, placed) = con.place_step(&mut place.levels[(k + 1) * n..], k, bits[k], flat >> k & 1 == 1, tol);
             if placed.is_err() {
                 place.levels.truncate((k + 1) * n);
-                let mut out = place.distances.clone();
-                out.push(dk);
-                return out;
+                self.view.clear();
+                self.view.extend_from_slice(&place.distances);
+                self.view.push(dk);
+                return &self.view;
             }
             place.distances.push(dk);
             place.bits.push(bits[k]);
         }
-        let mut out = Vec::with_capacity(upto + 1);
-        out.extend_from_slice(&place.distances[..upto]);
-        out.push(con.base_distance(&place.levels[upto * n..(upto + 1) * n], upto));
-        out
+        self.view.clear();
+        self.view.extend_from_slice(&place.distances[..upto]);
+        self.view.push(con.base_distance(&place.levels[upto * n..(upto + 1) * n], upto));
+        &self.view
     }
 }
 
 /// An end's λ in double-double depends on its f64 λ, its first flat event
 /// and the type bits before that step.
 type RefineKey = ([u64; 2], Event, u128);
+
+/// The flat steps of `events` as one word, bit i for step i (`None` past 128 steps).
+fn flat_mask(events: &[Event]) -> Option<u128> {
+    events.iter().try_fold(0u128, |m, e| (e.step < 128).then(|| m | 1 << e.step))
+}
 
 /// The type bits before step `step` as one word (`None` past 128 steps).
 fn prefix_word(bits: &[bool], step: usize) -> Option<u128> {
@@ -309,6 +329,36 @@ impl Certifier {
         self.slack_signs_in(None, bits, at, questions)
     }
 
+    /// [`Self::slack_signs_in`] for a sweep's fixed few questions. Most are
+    /// proven by the f64 balls of the prefix kept for the place: those
+    /// allocate nothing; the rest take the general path.
+    pub fn slack_signs_kept<const N: usize>(
+        &self,
+        prefixes: &mut Prefixes,
+        bits: &[bool],
+        at: At,
+        questions: [(usize, Kind); N],
+    ) -> [Sign; N] {
+        let upto = questions.iter().map(|&(k, _)| k).max().unwrap_or(0);
+        if let Some(mask) = flat_mask(at.events)
+            && (2..128).contains(&upto)
+            && let Some(l) = self.bracket(&self.f64_balls, bits, at, Dd::new(at.lambda))
+        {
+            let d = prefixes.distances_view(&self.f64_balls, l, bits, upto, mask);
+            let steps = &self.f64_balls.steps;
+            let proven = |(k, kind): (usize, Kind)| {
+                let d = *d.get(k)?;
+                Sign::of(kind.slack_value(steps[k].r1, steps[k].r2, d).sign())
+            };
+            let signs = questions.map(proven);
+            if signs.iter().all(Option::is_some) {
+                return signs.map(|s| s.expect("all proven"));
+            }
+        }
+        let signs = self.slack_signs_in(Some(prefixes), bits, at, &questions);
+        std::array::from_fn(|i| signs[i])
+    }
+
     /// [`Self::slack_signs`], realizing in f64 balls from the prefixes kept
     /// in `prefixes` (a sweep's; see [`Prefixes`]) where given.
     pub fn slack_signs_in(
@@ -321,7 +371,7 @@ impl Certifier {
         let upto = questions.iter().map(|&(k, _)| k).max().unwrap_or(0);
         let lambda = Dd::new(at.lambda);
         let flat: Vec<usize> = at.events.iter().map(|e| e.step).filter(|&s| s < upto).collect();
-        let mask = at.events.iter().try_fold(0u128, |m, e| (e.step < 128).then(|| m | 1 << e.step));
+        let mask = flat_mask(at.events);
         let mut prefixes = prefixes;
         let mut enclose = |l: Ball<f64>| match (prefixes.as_deref_mut(), mask) {
             // Below two steps there is no prefix worth keeping.
@@ -388,7 +438,11 @@ impl Certifier {
     /// `prefixes` as in [`Self::slack_signs_in`].
     pub fn closes(&self, prefixes: Option<&mut Prefixes>, bits: &[bool], lambda: f64, k: usize) -> Closes {
         let at = At { lambda, events: &[] };
-        let signs = self.slack_signs_in(prefixes, bits, at, &[(k, Kind::Stretched), (k, Kind::Folded)]);
+        let questions = [(k, Kind::Stretched), (k, Kind::Folded)];
+        let signs = match prefixes {
+            Some(p) => self.slack_signs_kept(p, bits, at, questions),
+            None => self.slack_signs(bits, at, &questions).try_into().expect("two answers"),
+        };
         let equal_sides = self.kinds(k).len() == 1;
         if signs.contains(&Sign::Negative) {
             Closes::No

@@ -13,7 +13,7 @@
 use std::cmp::Ordering;
 
 use crate::real::{Jet, Real};
-use crate::realize::{Construction, Event};
+use crate::realize::{Construction, Event, P2};
 use crate::tolerance;
 
 /// An interval end: its λ, the flat steps there (one in a generic scene),
@@ -55,8 +55,19 @@ pub fn cosine_sample<T: Real>(from: T, to: T, i: usize, n: usize) -> T {
 /// `k` bits), with its first and second derivative in λ; `None` where an
 /// earlier step cannot close or the distance is not finite.
 pub fn base_distance_jet<T: Real>(jet: &Construction<Jet<T>>, bits: &[bool], k: usize, lambda: T) -> Option<Jet<T>> {
-    let pos = jet.realize_prefix(Jet::variable(lambda), bits, k).ok()?;
-    let d = jet.base_distance(&pos, k);
+    base_distance_jet_in(jet, &mut Vec::new(), bits, k, lambda)
+}
+
+/// [`base_distance_jet`], realizing into `pos` (its allocation reused).
+pub fn base_distance_jet_in<T: Real>(
+    jet: &Construction<Jet<T>>,
+    pos: &mut Vec<P2<Jet<T>>>,
+    bits: &[bool],
+    k: usize,
+    lambda: T,
+) -> Option<Jet<T>> {
+    jet.realize_prefix_into(pos, Jet::variable(lambda), bits, k).ok()?;
+    let d = jet.base_distance(pos, k);
     d.v.to_f64().is_finite().then_some(d)
 }
 
