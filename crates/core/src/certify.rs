@@ -330,8 +330,9 @@ impl Certifier {
     }
 
     /// [`Self::slack_signs_in`] for a sweep's fixed few questions. Most are
-    /// proven by the f64 balls of the prefix kept for the place: those
-    /// allocate nothing; the rest take the general path.
+    /// proven by the f64 balls of the prefix kept for the place (at any
+    /// depth: even a first step's question then allocates nothing); the
+    /// rest take the general path.
     pub fn slack_signs_kept<const N: usize>(
         &self,
         prefixes: &mut Prefixes,
@@ -341,7 +342,7 @@ impl Certifier {
     ) -> [Sign; N] {
         let upto = questions.iter().map(|&(k, _)| k).max().unwrap_or(0);
         if let Some(mask) = flat_mask(at.events)
-            && (2..128).contains(&upto)
+            && upto < 128
             && let Some(l) = self.bracket(&self.f64_balls, bits, at, Dd::new(at.lambda))
         {
             let d = prefixes.distances_view(&self.f64_balls, l, bits, upto, mask);
@@ -531,17 +532,19 @@ impl Certifier {
         lambda: Dd,
     ) -> Option<Ball<T>> {
         let s = &con.steps[event.step];
-        let slack = |x: T| -> Option<i8> {
-            let pos = con.realize_prefix(Ball::exact(x), bits, event.step).ok()?;
-            let d = con.base_distance(&pos, event.step);
-            event.kind.slack_value(s.r1, s.r2, d).sign()
+        // One block of positions for every realization of the search.
+        let pos = RefCell::new(Vec::new());
+        let slack_ball = |x: T| -> Option<Ball<T>> {
+            let mut pos = pos.borrow_mut();
+            con.realize_prefix_into(&mut pos, Ball::exact(x), bits, event.step).ok()?;
+            Some(event.kind.slack_value(s.r1, s.r2, con.base_distance(&pos, event.step)))
         };
+        let slack = |x: T| slack_ball(x)?.sign();
         let centre = T::from_dd(lambda);
         let scale = con.scale;
         // A slack whose ball at the centre is already wider than the widest
         // bracket tried cannot prove a sign change there: skip the search.
-        let pos = con.realize_prefix(Ball::exact(centre), bits, event.step).ok()?;
-        let width = event.kind.slack_value(s.r1, s.r2, con.base_distance(&pos, event.step)).r;
+        let width = slack_ball(centre)?.r;
         if width.is_nan() || width >= tolerance::BALL_TOO_WIDE * scale {
             return None;
         }
