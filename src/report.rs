@@ -9,6 +9,7 @@ use serde::Serialize;
 pub use caymos_core::numfmt::{fmt_num, fmt_sci, fmt_sig};
 
 use crate::analysis::{Analysis, NoRealization, Warning};
+use crate::cayley_space::Note;
 use crate::decompose::Outside;
 use crate::linkage::{Constraint, Linkage};
 use crate::minimal_vector::{MinimalOptions, Minimality};
@@ -396,7 +397,7 @@ impl Report {
                 if !s.lazy {
                     r.numeric_steps = s.space.numeric_steps.iter().map(|&k| StepNo::of_index(k)).collect();
                 }
-                let sets = s.components.connected_sets();
+                let sets = &s.components.connected;
                 r.components = s
                     .components
                     .list
@@ -626,17 +627,33 @@ impl Report {
             return;
         }
         let sets = self.components.iter().map(|c| c.connected_set.index() + 1).max().unwrap_or(0);
+        // A branch this base sees only as a dead end or a degenerate piece
+        // may join sets further (see `Components::connected`).
+        let collapsed = self
+            .warnings
+            .iter()
+            .any(|w| matches!(w.data, Warning::BranchPoint { ways: 0, .. } | Warning::Note(Note::Degenerate { .. })));
+        let mut notes = Vec::new();
+        if sets < self.components.len() {
+            notes.push("components that meet at a branch point share a realization there");
+            if collapsed {
+                notes.push("a branch seen only as a dead end or a degenerate piece may join more");
+            }
+        }
+        if self.mirror_pairs {
+            notes.push("all clusters achiral: mirror images share Cayley vectors");
+        }
         let _ = writeln!(
             o,
             "{:<24}{}{}{}",
             "Components",
             self.components.len(),
             if sets < self.components.len() {
-                format!(", meeting at branch points in {sets} connected set{}", if sets == 1 { "" } else { "s" })
+                format!(" in {sets} connected set{}", if sets == 1 { "" } else { "s" })
             } else {
                 String::new()
             },
-            if self.mirror_pairs { " (all clusters achiral: mirror images share Cayley vectors)" } else { "" }
+            if notes.is_empty() { String::new() } else { format!(" ({})", notes.join("; ")) }
         );
         let rows: Vec<[String; 4]> = self
             .components

@@ -26,10 +26,6 @@ fn validate(name: &str, doc: &Value) {
     }
 }
 
-fn json(out: &std::process::Output) -> Value {
-    serde_json::from_slice(&out.stdout).unwrap_or_else(|e| panic!("not JSON ({e}): {}", stdout(out)))
-}
-
 #[test]
 fn every_report_validates_and_two_runs_are_byte_identical() {
     let hard: Vec<String> = caymos::generate::hard_cases().into_iter().map(|h| h.name).collect();

@@ -81,6 +81,38 @@ fn lazy_equals_exhaustive_on_every_bundled_scene() {
     assert!(checked >= 20, "expected components in the bundled scenes, walked {checked}");
 }
 
+/// The exact tangency on bases v1–v2 and p–q: both steps are flat at the
+/// one realization (λ = 7). A walk started there returns the point in all
+/// four types, as the exhaustive sweep does; before, it stopped at the
+/// first flat step and returned one type.
+#[test]
+fn a_lazy_start_where_several_steps_are_flat_at_an_isolated_point_takes_every_flip() {
+    let scene = caymos::generate::tangency();
+    let a = analyse(scene.clone(), None).unwrap();
+    let id = |n: &str| a.linkage.names.iter().position(|x| x == n).unwrap();
+    for base in [["v1", "v2"], ["p", "q"]] {
+        let a = analyse_with(scene.clone(), Some([id(base[0]), id(base[1])]), Scope::Full).unwrap();
+        let s: Solved = a.outcome.unwrap();
+        let jet = s.construction.convert::<Jet<f64>>();
+        let start = &s.space.intervals[0];
+        assert_eq!(start.lower.lambda, 7.0, "base {base:?}");
+        let lazy = component_through(&s.construction, &s.certifier, &jet, &start.ty, 7.0, LazyOptions::default())
+            .unwrap_or_else(|e| panic!("base {base:?}: {e:?}"));
+        let points = |space: &CayleySpace<f64>| {
+            let mut p: Vec<(String, f64, f64, usize)> = space
+                .intervals
+                .iter()
+                .map(|i| (i.ty.to_string(), i.lower.lambda, i.upper.lambda, i.lower.events.len()))
+                .collect();
+            p.sort_by(|x, y| x.0.cmp(&y.0));
+            p
+        };
+        assert_eq!(points(&lazy), points(&s.space), "base {base:?}");
+        assert_eq!(points(&lazy).len(), 4, "base {base:?}");
+        assert_eq!(components(&lazy).connected_set_count(), 1, "base {base:?}");
+    }
+}
+
 #[test]
 fn lazy_equals_exhaustive_on_hard_cases() {
     for scene in hard_cases() {

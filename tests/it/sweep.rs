@@ -9,10 +9,6 @@ use caymos::sweep::{Change, InputBar, Parameter, Setup, Turn};
 
 use crate::helpers::*;
 
-fn json(out: &std::process::Output) -> Value {
-    serde_json::from_slice(&out.stdout).unwrap_or_else(|e| panic!("not JSON ({e}): {}", stdout(out)))
-}
-
 /// The four-bar A-B-C-D (base A–C) closes for some λ iff the ranges of its
 /// two triangles meet: max(|AB−BC|, |CD−DA|) ≤ min(AB+BC, CD+DA).
 fn closes([ab, bc, cd, da]: [f64; 4]) -> bool {

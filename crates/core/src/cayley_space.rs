@@ -406,12 +406,11 @@ impl<T: Real> Sweep<'_, T> {
         }
         let n_gaps = inside.len() + 1;
         // Walk the gaps, emitting maximal feasible runs and isolated roots.
-        // An end where step k is proven flat and closes, beside a gap where
-        // it does not, is an isolated point of its own (step k touches the
-        // piece's end from outside: two steps flat at one λ).
-        let isolated_end = |flat: &[Root<T>], signs: [Sign; 2], gap: bool| {
-            !gap && !flat.is_empty() && !signs.contains(&Sign::Negative) && !signs.contains(&Sign::Undefined)
-        };
+        // An end where step k's slack is zero (to double-double resolution)
+        // and the step closes, beside a gap where it does not, is an isolated
+        // point of its own: two steps flat at one λ (a non-generic place,
+        // noted as such by `with_coincident`).
+        let isolated_end = |flat: &[Root<T>], signs: [Sign; 2], gap: bool| !gap && !flat.is_empty() && closes_at(signs);
         let mut out = Vec::new();
         if isolated_end(&at_lo, ends[0], feasible[0]) {
             let p = self.with_coincident(piece.lo.clone(), &at_lo, k);
@@ -479,7 +478,7 @@ impl<T: Real> Sweep<'_, T> {
     /// there (proven signs of both slacks, `signs`); where k is flat too,
     /// the point gains its event.
     fn refine_point(&mut self, k: usize, piece: &Piece<T>, roots: &[Root<T>], signs: [Sign; 2]) -> Vec<Piece<T>> {
-        if signs.contains(&Sign::Negative) {
+        if !closes_at(signs) {
             return Vec::new();
         }
         let flat: Vec<Root<T>> = roots.iter().copied().filter(|r| r.at != At::Inside).collect();
@@ -605,6 +604,13 @@ impl<T: Real> Sweep<'_, T> {
             }
         }
     }
+}
+
+/// Whether a step closes at a point, from its slacks' signs there
+/// ([stretched, folded]): none negative, and both defined (an undefined
+/// sign says an earlier step cannot close there).
+fn closes_at(signs: [Sign; 2]) -> bool {
+    !signs.contains(&Sign::Negative) && !signs.contains(&Sign::Undefined)
 }
 
 /// Whether a step closes next to a piece end, from its slacks' proven signs

@@ -306,11 +306,14 @@ impl<'a, T: Real> Walker<'a, T> {
         Some((j.v, j.d * s.dir))
     }
 
-    /// A start at a tangency that is an isolated point (a step's slack is
-    /// zero there to double-double resolution and proven negative on both
-    /// sides, as the exhaustive sweep decides it): the component is that
-    /// point in the type and in the type with the flat step's bit flipped.
-    /// `None` for any other start.
+    /// A start at an isolated point: the steps whose slacks are zero there
+    /// to double-double resolution (one at a tangency, several where steps
+    /// are flat at once, as at the tangency scene's λ = 7 on base v1–v2)
+    /// include, on each side, one proven not to close, as the exhaustive
+    /// sweep decides it. The component is that point in every type reached
+    /// by flipping flat steps' bits (one realization: a flat step's two
+    /// orientations coincide, and later steps do not see its bit). `None`
+    /// for any other start, and past 16 flat steps (2^16 types).
     fn isolated_start(&mut self, ty: &RealizationType, lambda: T) -> Option<Vec<OrientedInterval<T>>> {
         let n = self.con.steps.len();
         let questions: Vec<(usize, Kind)> =
@@ -318,17 +321,30 @@ impl<'a, T: Real> Walker<'a, T> {
         let l = lambda.to_f64();
         let at = |x: f64| At { lambda: x, events: &[] };
         let here = self.cert.slack_signs(&ty.0, at(l), &questions);
-        let (k, kind) = questions.iter().zip(&here).find(|(_, s)| **s == Sign::Zero).map(|(q, _)| *q)?;
-        let h = tolerance::ISOLATED_SIDE_OFFSET * self.con.scale;
-        let side = |x: f64| self.cert.slack_sign(&ty.0, at(x), k, kind);
-        if side(l - h) != Sign::Negative || side(l + h) != Sign::Negative {
+        let mut flat: Vec<Event> = questions
+            .iter()
+            .zip(&here)
+            .filter(|(_, s)| **s == Sign::Zero)
+            .map(|(&(step, kind), _)| Event { step, kind })
+            .collect();
+        flat.dedup_by_key(|e| e.step);
+        if flat.is_empty() || flat.len() > 16 {
             return None;
         }
-        let event = Event { step: k, kind };
-        self.notes.push(Note::Tangency { lambda: l, event, inside: false });
-        let p = self.ids.make(lambda, vec![event]);
-        let point = |t: RealizationType| OrientedInterval { ty: t, lower: p.clone(), upper: p.clone() };
-        Some(vec![point(ty.clone()), point(ty.flipped(k))])
+        let h = tolerance::ISOLATED_SIDE_OFFSET * self.con.scale;
+        let fails = |x: f64| flat.iter().any(|e| self.cert.slack_sign(&ty.0, at(x), e.step, e.kind) == Sign::Negative);
+        if !(fails(l - h) && fails(l + h)) {
+            return None;
+        }
+        self.notes.push(match flat[..] {
+            [event] => Note::Tangency { lambda: l, event, inside: false },
+            _ => Note::Coincident { lambda: l, events: flat.clone() },
+        });
+        let steps: Vec<usize> = flat.iter().map(|e| e.step).collect();
+        let p = self.ids.make(lambda, flat);
+        let point =
+            |mask: usize| OrientedInterval { ty: ty.flipped_by_mask(&steps, mask), lower: p.clone(), upper: p.clone() };
+        Some((0..1usize << steps.len()).map(point).collect())
     }
 
     /// The whole component through (ty, λ): its start interval, then the

@@ -64,50 +64,22 @@ pub struct Components {
     pub of_interval: Vec<usize>,
     /// Endpoints with several ways on or none (non-generic scenes only).
     pub branch_points: Vec<BranchPoint>,
+    /// Per listed component, its connected set of the realization space
+    /// (sets numbered in order of their first component). Components whose
+    /// intervals meet at an end by the flip rule share a realization there,
+    /// so they are one set. In a generic scene every component is its own
+    /// set; at a branch point the listing depends on the walk (and so on the
+    /// base), the sets do not, except where a branch of the motion
+    /// collapses onto one λ on this base (a step's base joints coinciding,
+    /// [`crate::cayley_space::Note::Degenerate`], or a dead end):
+    /// components joined only through it stay apart here.
+    pub connected: Vec<usize>,
 }
 
 impl Components {
-    /// The connected sets of the realization space: listed components that
-    /// meet at a branch point share a realization there, so they are one
-    /// set. Per listed component, its set's index (sets numbered in order
-    /// of their first component). In a generic scene every component is
-    /// its own set; at a branch point the listing depends on the walk (and
-    /// so on the base), the sets do not, except where a branch of the
-    /// motion collapses onto one λ on this base (a step's base joints
-    /// coinciding, [`crate::cayley_space::Note::Degenerate`], or a dead
-    /// end): components joined only through it stay apart here.
-    pub fn connected_sets(&self) -> Vec<usize> {
-        let mut parent: Vec<usize> = (0..self.list.len()).collect();
-        fn root(parent: &mut [usize], mut c: usize) -> usize {
-            while parent[c] != c {
-                parent[c] = parent[parent[c]];
-                c = parent[c];
-            }
-            c
-        }
-        for b in &self.branch_points {
-            for &o in &b.options {
-                let (x, y) = (root(&mut parent, self.of_interval[b.from]), root(&mut parent, self.of_interval[o]));
-                parent[x.max(y)] = x.min(y);
-            }
-        }
-        let mut number = vec![usize::MAX; self.list.len()];
-        let mut sets = 0;
-        (0..self.list.len())
-            .map(|c| {
-                let r = root(&mut parent, c);
-                if number[r] == usize::MAX {
-                    number[r] = sets;
-                    sets += 1;
-                }
-                number[r]
-            })
-            .collect()
-    }
-
-    /// How many connected sets the realization space has ([`Components::connected_sets`]).
+    /// How many connected sets the realization space has ([`Components::connected`]).
     pub fn connected_set_count(&self) -> usize {
-        self.connected_sets().into_iter().max().map_or(0, |m| m + 1)
+        self.connected.iter().max().map_or(0, |m| m + 1)
     }
 }
 
@@ -248,7 +220,56 @@ pub fn components(space: &CayleySpace<f64>) -> Components {
             lambda_range: [lo, hi],
         });
     }
-    Components { list, of_interval, branch_points }
+    // Only an end with several flat steps can join two walks: elsewhere
+    // each end has one partner, and the walk went on into it.
+    let several = ivs.iter().any(|i| i.lower.events.len() > 1 || i.upper.events.len() > 1);
+    let mut sets = UnionFind::new(list.len());
+    if several {
+        for i in 0..ivs.len() {
+            for side in [Side::Lower, Side::Upper] {
+                partners(i, side, &mut options);
+                for &j in &options {
+                    sets.join(of_interval[i], of_interval[j]);
+                }
+            }
+        }
+    }
+    Components { connected: sets.numbered(), list, of_interval, branch_points }
+}
+
+/// Disjoint sets of `0..n` (path halving, the smaller index as root).
+struct UnionFind(Vec<usize>);
+
+impl UnionFind {
+    fn new(n: usize) -> Self {
+        UnionFind((0..n).collect())
+    }
+    fn root(&mut self, mut c: usize) -> usize {
+        while self.0[c] != c {
+            self.0[c] = self.0[self.0[c]];
+            c = self.0[c];
+        }
+        c
+    }
+    fn join(&mut self, a: usize, b: usize) {
+        let (x, y) = (self.root(a), self.root(b));
+        self.0[x.max(y)] = x.min(y);
+    }
+    /// Each element's set, numbered from 0 in order of first element.
+    fn numbered(mut self) -> Vec<usize> {
+        let mut number = vec![usize::MAX; self.0.len()];
+        let mut sets = 0;
+        (0..self.0.len())
+            .map(|c| {
+                let r = self.root(c);
+                if number[r] == usize::MAX {
+                    number[r] = sets;
+                    sets += 1;
+                }
+                number[r]
+            })
+            .collect()
+    }
 }
 
 /// The oriented intervals meeting at a branch point at `lambda` that
@@ -779,5 +800,41 @@ pub fn measure(
         cayley_length,
         max_joint_travel: travel.into_iter().fold(0.0, f64::max),
         walk: walk.summary().clone(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::cayley_space::Method;
+    use crate::realize::Kind;
+    use crate::roots::Endpoint;
+
+    /// Three types end at one λ where steps 0 and 1 are flat; the fourth
+    /// (010) has no interval. 000 and 100 meet by flipping step 0, 100 and
+    /// 110 by flipping step 1: one realization there, so one connected set,
+    /// however the walk lists them.
+    #[test]
+    fn components_meeting_at_an_end_with_several_flat_steps_are_one_set() {
+        let flat = vec![Event { step: 0, kind: Kind::Stretched }, Event { step: 1, kind: Kind::Stretched }];
+        let top = Endpoint { lambda: 2.0, events: flat, id: 1 };
+        let bottom = |id: usize| Endpoint { lambda: 1.0, events: vec![Event { step: 2, kind: Kind::Folded }], id };
+        let ty = |bits: [bool; 3]| RealizationType(bits.to_vec());
+        let interval = |bits, id| OrientedInterval { ty: ty(bits), lower: bottom(id), upper: top.clone() };
+        let space = CayleySpace {
+            intervals: vec![
+                interval([false, false, false], 2),
+                interval([true, false, false], 3),
+                interval([true, true, false], 4),
+            ],
+            notes: Vec::new(),
+            method: Method::Exact,
+            numeric_steps: Vec::new(),
+        };
+        let c = components(&space);
+        // The walk lists {000, 100} and {110}: the one recorded branch point
+        // does not join them, the flip at the shared end does.
+        assert_eq!(c.list.len(), 2, "{c:#?}");
+        assert_eq!(c.connected, vec![0, 0], "{c:#?}");
     }
 }
