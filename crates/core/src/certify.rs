@@ -109,21 +109,10 @@ struct Realized {
 impl Prefixes {
     /// [`Construction::base_distances_flat`] at the ball `lambda` with the
     /// steps of `flat` (bit i for step i) placed flat, from the realized
-    /// prefix kept for that place. Past [`tolerance::PREFIX_PLACES`] places
-    /// the cache starts afresh (a bound on memory, not a decision).
+    /// prefix kept for that place, borrowed until the next question. Past
+    /// [`tolerance::PREFIX_PLACES`] places the cache starts afresh (a bound
+    /// on memory, not a decision).
     fn distances(
-        &mut self,
-        con: &Construction<Ball<f64>>,
-        lambda: Ball<f64>,
-        bits: &[bool],
-        upto: usize,
-        flat: u128,
-    ) -> Vec<Ball<f64>> {
-        self.distances_view(con, lambda, bits, upto, flat).to_vec()
-    }
-
-    /// [`Self::distances`], borrowed from the cache (kept until the next question).
-    fn distances_view(
         &mut self,
         con: &Construction<Ball<f64>>,
         lambda: Ball<f64>,
@@ -345,7 +334,7 @@ impl Certifier {
             && upto < 128
             && let Some(l) = self.bracket(&self.f64_balls, bits, at, Dd::new(at.lambda))
         {
-            let d = prefixes.distances_view(&self.f64_balls, l, bits, upto, mask);
+            let d = prefixes.distances(&self.f64_balls, l, bits, upto, mask);
             let steps = &self.f64_balls.steps;
             let proven = |(k, kind): (usize, Kind)| {
                 let d = *d.get(k)?;
@@ -376,7 +365,9 @@ impl Certifier {
         let mut prefixes = prefixes;
         let mut enclose = |l: Ball<f64>| match (prefixes.as_deref_mut(), mask) {
             // Below two steps there is no prefix worth keeping.
-            (Some(p), Some(mask)) if (2..128).contains(&upto) => p.distances(&self.f64_balls, l, bits, upto, mask),
+            (Some(p), Some(mask)) if (2..128).contains(&upto) => {
+                p.distances(&self.f64_balls, l, bits, upto, mask).to_vec()
+            }
             _ => self.f64_balls.base_distances_flat(l, bits, upto, &flat),
         };
         let fast = self.evaluate(
