@@ -9,7 +9,6 @@ use serde::Serialize;
 pub use caymos_core::numfmt::{fmt_num, fmt_sci, fmt_sig};
 
 use crate::analysis::{Analysis, NoRealization, Warning};
-use crate::cayley_space::Note;
 use crate::decompose::Outside;
 use crate::linkage::{Constraint, Linkage};
 use crate::minimal_vector::{MinimalOptions, Minimality};
@@ -104,11 +103,11 @@ pub struct ComponentReport {
     pub contains_drawn: bool,
     /// False only at a non-generic branch point or dead end.
     pub closed: bool,
-    /// The connected set of the realization space it belongs to (from 1):
-    /// components that meet at a branch point share a realization there.
-    /// In a generic scene each component is a set of its own. (A motion
-    /// branch this base sees only as a dead end or a degenerate piece can
-    /// join sets further.)
+    /// Its connected set (from 1): components that meet at a branch point
+    /// share a realization there. In a generic scene each component is a
+    /// set of its own. The count of sets bounds the realization space's
+    /// connected pieces from above; at non-generic places it may differ
+    /// between bases (see `caymos_core::motion::Components::connected`).
     pub connected_set: ComponentNo,
 }
 
@@ -627,18 +626,12 @@ impl Report {
             return;
         }
         let sets = self.components.iter().map(|c| c.connected_set.index() + 1).max().unwrap_or(0);
-        // A branch this base sees only as a dead end or a degenerate piece
-        // may join sets further (see `Components::connected`).
-        let collapsed = self
-            .warnings
-            .iter()
-            .any(|w| matches!(w.data, Warning::BranchPoint { ways: 0, .. } | Warning::Note(Note::Degenerate { .. })));
         let mut notes = Vec::new();
         if sets < self.components.len() {
-            notes.push("components that meet at a branch point share a realization there");
-            if collapsed {
-                notes.push("a branch seen only as a dead end or a degenerate piece may join more");
-            }
+            notes.push(
+                "components that meet at a branch point share a realization there; at such a non-generic place \
+                 another base may count sets differently",
+            );
         }
         if self.mirror_pairs {
             notes.push("all clusters achiral: mirror images share Cayley vectors");

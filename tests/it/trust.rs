@@ -476,7 +476,10 @@ fn the_report_says_how_many_connected_sets_the_components_form() {
     assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
     let text = String::from_utf8_lossy(&out.stdout);
     let line = text.lines().find(|l| l.starts_with("Components")).expect("a Components line");
-    assert!(line.contains("2 in 1 connected set (components that meet at a branch point"), "{line}");
+    assert!(
+        line.contains("2 in 1 connected set (components that meet at a branch point share a realization"),
+        "{line}"
+    );
     let doc = json(&caymos(&["report", "hard:tangency", "--base", "v1,v2", "--format", "json"]));
     let sets: Vec<u64> =
         doc["components"].as_array().unwrap().iter().map(|c| c["connected_set"].as_u64().unwrap()).collect();
@@ -485,4 +488,27 @@ fn the_report_says_how_many_connected_sets_the_components_form() {
     let out = caymos(&["report", "jansen"]);
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(text.lines().any(|l| l.starts_with("Components") && l.trim_end().ends_with(" 6")), "{text}");
+}
+
+/// Integer lengths make steps touch the ends of earlier steps' intervals
+/// from outside. A four-bar with a dyad (AB = BC = CD = 1, DA = 2, BE = 1,
+/// DE = 3) found no realization on two of its four bases before such an end
+/// became a point of its own; and where the touching step's point only
+/// repeats a realization another type reaches there (AB, BC, CD, DA = 1, 3,
+/// 4, 2 with BE = DE = 1: at λ = 4 steps B and E are flat), no extra
+/// interval is listed.
+#[test]
+fn touching_ends_are_found_on_every_base_and_not_listed_twice() {
+    let scene = caymos::generate::four_bar_with_dyad([1.0, 1.0, 1.0, 2.0], 1.0, 3.0);
+    let (a, s) = solve(scene.clone());
+    for base in std::iter::once(s.dec.base).chain(s.dec.other_bases(&a.linkage)) {
+        let (_, t) = solve_with(scene.clone(), Some(base), Scope::Full);
+        assert!(!t.space.intervals.is_empty(), "base {base:?}: no realization");
+        assert!(caymos::analysis::no_realization(&t, a.linkage.scale).is_none(), "base {base:?}");
+    }
+    let (_, s) = solve(caymos::generate::four_bar_with_dyad([1.0, 3.0, 4.0, 2.0], 1.0, 1.0));
+    assert_eq!(s.space.intervals.len(), 8, "{:#?}", s.space.intervals);
+    assert!(s.space.intervals.iter().all(|i| i.lower.lambda < i.upper.lambda), "no point intervals");
+    assert_eq!(s.components.list.len(), 2);
+    assert_eq!(s.components.connected_set_count(), 1, "both steps B and D folded at λ = 2: all types meet");
 }

@@ -155,6 +155,10 @@ pub struct CayleySpace<T> {
 struct Piece<T> {
     lo: Endpoint<T>,
     hi: Endpoint<T>,
+    /// An isolated end point where a later step touches the piece's end
+    /// from outside (see `refine`); such a point may only repeat a
+    /// realization another type reaches there (see `drop_repeated_touches`).
+    touch: bool,
 }
 
 /// Where a root sits relative to the piece being refined.
@@ -191,6 +195,8 @@ struct Sweep<'a, T: Real> {
     prefixes: Prefixes,
     /// Joint positions of the last jet realization (reused).
     positions: RefCell<Vec<P2<Jet<T>>>>,
+    /// Indices into `out` of the isolated end points (`Piece::touch`).
+    touches: Vec<usize>,
 }
 
 /// Compute the oriented intervals of every type.
@@ -236,6 +242,7 @@ pub fn cayley_space<T: Real>(
         out: Vec::new(),
         prefixes: Prefixes::default(),
         positions: RefCell::new(Vec::new()),
+        touches: Vec::new(),
     };
     // Start from (0, sentinel): every root of the first step lies below the sentinel.
     let top = (0..n)
@@ -246,8 +253,8 @@ pub fn cayley_space<T: Real>(
     let lo = sweep.ids.make(T::zero(), Vec::new());
     let hi = sweep.ids.make(top, Vec::new());
     let mut bits = Vec::with_capacity(n);
-    sweep.descend(0, &mut bits, &[Piece { lo, hi }]);
-    let mut intervals = sweep.out;
+    sweep.descend(0, &mut bits, &[Piece { lo, hi, touch: false }]);
+    let mut intervals = drop_repeated_touches(sweep.out, &sweep.touches);
     intervals.sort_by(|a, b| a.ty.cmp(&b.ty).then(cmp(&a.lower.lambda, &b.lower.lambda)));
     let mut notes = sweep.notes;
     notes.dedup();
@@ -258,6 +265,9 @@ impl<T: Real> Sweep<'_, T> {
     fn descend(&mut self, k: usize, bits: &mut Vec<bool>, pieces: &[Piece<T>]) {
         if k == self.con.steps.len() {
             for p in pieces {
+                if p.touch {
+                    self.touches.push(self.out.len());
+                }
                 let ty = RealizationType(bits.clone());
                 self.out.push(OrientedInterval { ty, lower: p.lo.clone(), upper: p.hi.clone() });
             }
@@ -414,7 +424,7 @@ impl<T: Real> Sweep<'_, T> {
         let mut out = Vec::new();
         if isolated_end(&at_lo, ends[0], feasible[0]) {
             let p = self.with_coincident(piece.lo.clone(), &at_lo, k);
-            out.push(Piece { lo: p.clone(), hi: p });
+            out.push(Piece { lo: p.clone(), hi: p, touch: true });
         }
         let mut start: Option<Endpoint<T>> = None;
         for g in 0..n_gaps {
@@ -429,10 +439,10 @@ impl<T: Real> Sweep<'_, T> {
             if g == n_gaps - 1 {
                 if let Some(lo) = start.take() {
                     let hi = self.with_coincident(piece.hi.clone(), &at_hi, k);
-                    out.push(Piece { lo, hi });
+                    out.push(Piece { lo, hi, touch: false });
                 } else if isolated_end(&at_hi, ends[1], feasible[g]) {
                     let p = self.with_coincident(piece.hi.clone(), &at_hi, k);
-                    out.push(Piece { lo: p.clone(), hi: p });
+                    out.push(Piece { lo: p.clone(), hi: p, touch: true });
                 }
                 break;
             }
@@ -443,12 +453,12 @@ impl<T: Real> Sweep<'_, T> {
                 }
                 (true, false) => {
                     let hi = self.ids.make(r.lambda, vec![event(&r)]);
-                    out.push(Piece { lo: start.take().expect("open run"), hi });
+                    out.push(Piece { lo: start.take().expect("open run"), hi, touch: false });
                 }
                 (false, false) => {
                     self.notes.push(Note::Tangency { lambda: r.lambda.to_f64(), event: event(&r), inside: false });
                     let p = self.ids.make(r.lambda, vec![event(&r)]);
-                    out.push(Piece { lo: p.clone(), hi: p });
+                    out.push(Piece { lo: p.clone(), hi: p, touch: false });
                 }
                 (false, true) => {}
             }
@@ -484,7 +494,7 @@ impl<T: Real> Sweep<'_, T> {
         let flat: Vec<Root<T>> = roots.iter().copied().filter(|r| r.at != At::Inside).collect();
         if !flat.is_empty() {
             let lo = self.with_coincident(piece.lo.clone(), &flat, k);
-            return vec![Piece { lo: lo.clone(), hi: lo }];
+            return vec![Piece { lo: lo.clone(), hi: lo, touch: piece.touch }];
         }
         vec![piece.clone()]
     }
@@ -604,6 +614,29 @@ impl<T: Real> Sweep<'_, T> {
             }
         }
     }
+}
+
+/// The intervals without the isolated end points (`touches`) that repeat a
+/// realization another interval reaches at that end: a point of type τ at
+/// an end where steps F are flat is the realization of every type that
+/// differs from τ only in bits of F (a flat step's two orientations
+/// coincide, and later steps do not see its bit), so where such a type has
+/// an interval of positive length ending there (the same endpoint id), the
+/// point adds nothing. Kept: points that are the only realization there, as
+/// the exact tangency on base v1–v2, where all four types are points.
+fn drop_repeated_touches<T: Real>(intervals: Vec<OrientedInterval<T>>, touches: &[usize]) -> Vec<OrientedInterval<T>> {
+    if touches.is_empty() {
+        return intervals;
+    }
+    let repeated = |p: &OrientedInterval<T>| {
+        let flat = |k: usize| p.lower.events.iter().any(|e| e.step == k);
+        intervals.iter().filter(|i| i.lower.lambda != i.upper.lambda).any(|i| {
+            let differs_in_flat_only = i.ty.0.iter().zip(&p.ty.0).enumerate().all(|(k, (a, b))| a == b || flat(k));
+            differs_in_flat_only && (i.lower.id == p.lower.id || i.upper.id == p.lower.id)
+        })
+    };
+    let drop: Vec<bool> = (0..intervals.len()).map(|i| touches.contains(&i) && repeated(&intervals[i])).collect();
+    intervals.into_iter().zip(drop).filter(|(_, d)| !d).map(|(i, _)| i).collect()
 }
 
 /// Whether a step closes at a point, from its slacks' signs there

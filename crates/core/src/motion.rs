@@ -64,15 +64,17 @@ pub struct Components {
     pub of_interval: Vec<usize>,
     /// Endpoints with several ways on or none (non-generic scenes only).
     pub branch_points: Vec<BranchPoint>,
-    /// Per listed component, its connected set of the realization space
-    /// (sets numbered in order of their first component). Components whose
-    /// intervals meet at an end by the flip rule share a realization there,
-    /// so they are one set. In a generic scene every component is its own
-    /// set; at a branch point the listing depends on the walk (and so on the
-    /// base), the sets do not, except where a branch of the motion
-    /// collapses onto one λ on this base (a step's base joints coinciding,
-    /// [`crate::cayley_space::Note::Degenerate`], or a dead end):
-    /// components joined only through it stay apart here.
+    /// Per listed component, its connected set (sets numbered in order of
+    /// their first component). Components whose intervals meet at an end by
+    /// the flip rule share a realization there, so they are one set. In a
+    /// generic scene every component is its own set. At a branch point the
+    /// listing depends on the walk; the sets join what the flip rule joins
+    /// on this base, so their count is an upper bound on the connected
+    /// pieces of the realization space, as the listing's is, and a tighter
+    /// one. At non-generic places it can still depend on the base: a shared
+    /// realization may be reached on another base only by flipping several
+    /// steps at once, or through a degenerate piece or a dead end (a step's
+    /// base joints coinciding, [`crate::cayley_space::Note::Degenerate`]).
     pub connected: Vec<usize>,
 }
 
