@@ -405,6 +405,12 @@ pub fn certificate(c: &Certificate) -> String {
                     other, with the same Cayley vector)"
                 .into();
         }
+        Outcome::Shared => {
+            return "distance 0: the components meet at a branch point, where they share a realization (the pair \
+                    above: the same realization in two types, the steps flat there coinciding to double-double \
+                    resolution, a non-generic place; not certified)"
+                .into();
+        }
         Outcome::GapReached if c.certified => format!(
             "certified to {req:e}: no two realizations, one in each component, are closer than {lo}, and the pair \
              above is at most {hi} apart (interval arithmetic with outward rounding over {} boxes and {} pairs of \

@@ -484,6 +484,12 @@ fn the_report_says_how_many_connected_sets_the_components_form() {
     let sets: Vec<u64> =
         doc["components"].as_array().unwrap().iter().map(|c| c["connected_set"].as_u64().unwrap()).collect();
     assert_eq!(sets, vec![1, 1]);
+    // Their closest pair is the shared realization, said as such, not certified.
+    let doc =
+        json(&caymos(&["closest", "hard:tangency", "--base", "v1,v2", "--components", "1,2", "--format", "json"]));
+    assert_eq!(doc["outcome"], "shared", "{doc:#}");
+    assert_eq!((doc["distance"].as_f64(), doc["certified"].as_bool()), (Some(0.0), Some(false)));
+    assert_eq!((doc["a"]["lambda"].as_f64(), doc["b"]["lambda"].as_f64()), (Some(7.0), Some(7.0)));
     // A generic scene: each component its own set, and the line says nothing more.
     let out = caymos(&["report", "jansen"]);
     let text = String::from_utf8_lossy(&out.stdout);

@@ -86,6 +86,11 @@ impl Default for ClosestOptions {
 pub enum Outcome {
     /// The components are mirror images of each other: distance exactly 0.
     Mirror,
+    /// The components meet at a branch point, where their intervals share
+    /// an end by the flip rule and so a realization: distance 0, as sure as
+    /// the coincidence of the steps flat there (decided to double-double
+    /// resolution, a non-generic place, so not certified).
+    Shared,
     /// The requested relative gap was reached (or every box was pruned).
     GapReached,
     /// f64 interval arithmetic cannot resolve the best pair's distance to the
@@ -565,7 +570,11 @@ pub fn closest_pair(
     if seg_a.is_empty() || seg_b.is_empty() {
         return None;
     }
+    // A proof first (mirror images), then a branch point's shared realization.
     if let Some(pair) = mirror_pair(mirrors, space, (ca, cb), &seg_a, opts) {
+        return Some(pair);
+    }
+    if let Some(pair) = shared_pair(space, (ca, cb), opts) {
         return Some(pair);
     }
     let (ha, hb) = (halves(con, space, &seg_a), halves(con, space, &seg_b));
@@ -638,6 +647,45 @@ fn named(
     let flat: &[usize] = if t == 0.0 { &hs[h].flat_steps } else { &[] };
     let v = con.realize_flat(r.lambda, &r.ty.0, con.steps.len(), flat).ok().map(|p| cayley_vector(&points(&p), ccv));
     (r, v)
+}
+
+/// Two components that meet at a branch point: an end of an interval of A
+/// and one of B with the same endpoint id, on the same side, whose types
+/// differ in one step flat there (the flip rule of
+/// [`crate::motion::components`]): one realization, distance 0. Not in
+/// several steps at once: at Peaucellier's fold such types are 6 apart.
+fn shared_pair(
+    space: &CayleySpace<f64>,
+    (ca, cb): (&Component, &Component),
+    opts: ClosestOptions,
+) -> Option<ClosestPair> {
+    let ends = |i: usize| {
+        let iv = &space.intervals[i];
+        [(&iv.lower, false), (&iv.upper, true)].map(|(e, upper)| (e, upper, &iv.ty))
+    };
+    let (a, b) = ca.intervals.iter().flat_map(|&i| ends(i)).find_map(|(ea, upper_a, ta)| {
+        let flip = |tb: &RealizationType| ea.events.iter().any(|e| &ta.flipped(e.step) == tb);
+        cb.intervals
+            .iter()
+            .flat_map(|&j| ends(j))
+            .find(|&(eb, upper_b, tb)| eb.id == ea.id && upper_b == upper_a && flip(tb))
+            .map(|(eb, _, tb)| {
+                (Realization { ty: ta.clone(), lambda: ea.lambda }, Realization { ty: tb.clone(), lambda: eb.lambda })
+            })
+    })?;
+    let certificate = Certificate {
+        lower: 0.0,
+        upper: 0.0,
+        gap: 0.0,
+        requested_gap: opts.gap,
+        outcome: Outcome::Shared,
+        certified: false,
+        boxes: 0,
+        max_boxes: opts.max_boxes,
+        end_pairs: 0,
+        unverified_ends: 0,
+    };
+    Some(ClosestPair { distance: 0.0, a, b, mirror: false, crossing: false, certificate })
 }
 
 /// When every cluster is achiral and B holds the mirror image of every
