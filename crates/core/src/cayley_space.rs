@@ -618,22 +618,22 @@ impl<T: Real> Sweep<'_, T> {
 
 /// The intervals without the isolated end points (`touches`) that repeat a
 /// realization another interval reaches at that end: a point of type τ at
-/// an end where steps F are flat is the realization of every type that
-/// differs from τ only in bits of F (a flat step's two orientations
-/// coincide, and later steps do not see its bit), so where such a type has
-/// an interval of positive length ending there (the same endpoint id), the
-/// point adds nothing. Kept: points that are the only realization there, as
-/// the exact tangency on base v1–v2, where all four types are points.
+/// an end where step k is flat is also the realization of τ with bit k
+/// flipped (a flat step's two orientations coincide, and later steps do not
+/// see its bit: the flip rule), so where that type has an interval of
+/// positive length ending there (the same endpoint id), the point adds
+/// nothing. Kept: points that are the only realization there, as the exact
+/// tangency on base v1–v2, where all four types are points.
 fn drop_repeated_touches<T: Real>(intervals: Vec<OrientedInterval<T>>, touches: &[usize]) -> Vec<OrientedInterval<T>> {
     if touches.is_empty() {
         return intervals;
     }
     let repeated = |p: &OrientedInterval<T>| {
-        let flat = |k: usize| p.lower.events.iter().any(|e| e.step == k);
-        intervals.iter().filter(|i| i.lower.lambda != i.upper.lambda).any(|i| {
-            let differs_in_flat_only = i.ty.0.iter().zip(&p.ty.0).enumerate().all(|(k, (a, b))| a == b || flat(k));
-            differs_in_flat_only && (i.lower.id == p.lower.id || i.upper.id == p.lower.id)
-        })
+        let flip = |ty: &RealizationType| p.lower.events.iter().any(|e| &p.ty.flipped(e.step) == ty);
+        intervals
+            .iter()
+            .filter(|i| i.lower.lambda != i.upper.lambda)
+            .any(|i| (i.lower.id == p.lower.id || i.upper.id == p.lower.id) && flip(&i.ty))
     };
     let drop: Vec<bool> = (0..intervals.len()).map(|i| touches.contains(&i) && repeated(&intervals[i])).collect();
     intervals.into_iter().zip(drop).filter(|(_, d)| !d).map(|(i, _)| i).collect()
