@@ -349,7 +349,7 @@ pub fn no_realization(why: &NoRealization, n: Names, con: &crate::realize::Const
             short_type(&ty.to_string()),
             fmt_num(*lambda)
         ),
-        NoRealization::NoTypeCloses { range } => {
+        NoRealization::NoTypeCloses { range, estimated } => {
             let range = range
                 .map(|[lo, hi]| {
                     format!(
@@ -359,7 +359,12 @@ pub fn no_realization(why: &NoRealization, n: Names, con: &crate::realize::Const
                     )
                 })
                 .unwrap_or_default();
-            format!("no realization: no orientation type closes every construction step{range}")
+            let unproven = if *estimated > 0 {
+                format!("; not proven: {estimated} decisions rest on double-double error estimates (see the warnings)")
+            } else {
+                String::new()
+            };
+            format!("no realization: no orientation type closes every construction step{range}{unproven}")
         }
     }
 }

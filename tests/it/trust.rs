@@ -496,6 +496,26 @@ fn the_report_says_how_many_connected_sets_the_components_form() {
     assert!(text.lines().any(|l| l.starts_with("Components") && l.trim_end().ends_with(" 6")), "{text}");
 }
 
+/// At 1e-300 double-double's low parts underflow and the tangency is missed
+/// on every base; where the report then says no type closes, it says too
+/// that this rests on estimates, not a proof.
+#[test]
+fn a_no_realization_that_rests_on_estimates_says_it_is_not_proven() {
+    let scene = tangency_scaled(-300);
+    let (a, s) = solve(scene.clone());
+    let mut seen = 0;
+    for base in std::iter::once(s.dec.base).chain(s.dec.other_bases(&a.linkage)) {
+        let (_, t) = solve_with(scene.clone(), Some(base), Scope::Full);
+        if let Some(caymos::analysis::NoRealization::NoTypeCloses { estimated, .. }) =
+            caymos::analysis::no_realization(&t, a.linkage.scale)
+        {
+            assert!(estimated > 0, "base {base:?}: a claim of no realization at 1e-300 cannot be proven");
+            seen += 1;
+        }
+    }
+    assert!(seen > 0, "the 1e-300 tangency says no type closes on some base");
+}
+
 /// Integer lengths make steps touch the ends of earlier steps' intervals
 /// from outside. A four-bar with a dyad (AB = BC = CD = 1, DA = 2, BE = 1,
 /// DE = 3) found no realization on two of its four bases before such an end

@@ -517,6 +517,9 @@ pub enum NoRealization {
     NoTypeCloses {
         /// The base lengths the steps on the base allow, if any step is on the base.
         range: Option<[f64; 2]>,
+        /// Decisions that rested on a double-double error estimate, not a
+        /// proof (0: the answer is proven; otherwise it is not).
+        estimated: usize,
     },
 }
 
@@ -556,7 +559,7 @@ pub fn no_realization(s: &Solved, scale: f64) -> Option<NoRealization> {
         (Some(&(_, lo, _)), Some(&(_, _, hi))) => Some([lo, hi]),
         _ => None,
     };
-    Some(NoRealization::NoTypeCloses { range })
+    Some(NoRealization::NoTypeCloses { range, estimated: s.certifier.estimated() })
 }
 
 /// A scene analysed: its linkage and either the solved analysis or why it is outside the class.
