@@ -626,8 +626,9 @@ impl Report {
             return;
         }
         let sets = self.components.iter().map(|c| c.connected_set.index() + 1).max().unwrap_or(0);
+        let joined = sets < self.components.len();
         let mut notes = Vec::new();
-        if sets < self.components.len() {
+        if joined {
             notes.push(
                 "components that meet at a branch point share a realization there; at such a non-generic place \
                  another base may count sets differently",
@@ -641,7 +642,7 @@ impl Report {
             "{:<24}{}{}{}",
             "Components",
             self.components.len(),
-            if sets < self.components.len() {
+            if joined {
                 format!(" in {sets} connected set{}", if sets == 1 { "" } else { "s" })
             } else {
                 String::new()

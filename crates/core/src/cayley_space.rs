@@ -617,23 +617,20 @@ impl<T: Real> Sweep<'_, T> {
 }
 
 /// The intervals without the isolated end points (`touches`) that repeat a
-/// realization another interval reaches at that end: a point of type τ at
-/// an end where step k is flat is also the realization of τ with bit k
-/// flipped (a flat step's two orientations coincide, and later steps do not
-/// see its bit: the flip rule), so where that type has an interval of
-/// positive length ending there (the same endpoint id), the point adds
-/// nothing. Kept: points that are the only realization there, as the exact
-/// tangency on base v1–v2, where all four types are points.
+/// realization another interval reaches at that end: where an interval of
+/// positive length ends at the point's root in a type one flat step away
+/// ([`Endpoint::flips_to`], the flip rule), the point adds nothing. Kept:
+/// points that are the only realization there, as the exact tangency on
+/// base v1–v2, where all four types are points.
 fn drop_repeated_touches<T: Real>(intervals: Vec<OrientedInterval<T>>, touches: &[usize]) -> Vec<OrientedInterval<T>> {
     if touches.is_empty() {
         return intervals;
     }
     let repeated = |p: &OrientedInterval<T>| {
-        let flip = |ty: &RealizationType| p.lower.events.iter().any(|e| &p.ty.flipped(e.step) == ty);
         intervals
             .iter()
             .filter(|i| i.lower.lambda != i.upper.lambda)
-            .any(|i| (i.lower.id == p.lower.id || i.upper.id == p.lower.id) && flip(&i.ty))
+            .any(|i| p.lower.flips_to(&p.ty, &i.lower, &i.ty) || p.lower.flips_to(&p.ty, &i.upper, &i.ty))
     };
     let drop: Vec<bool> = (0..intervals.len()).map(|i| touches.contains(&i) && repeated(&intervals[i])).collect();
     intervals.into_iter().zip(drop).filter(|(_, d)| !d).map(|(i, _)| i).collect()

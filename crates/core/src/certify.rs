@@ -364,10 +364,7 @@ impl Certifier {
         let mask = flat_mask(at.events);
         let mut prefixes = prefixes;
         let mut enclose = |l: Ball<f64>| match (prefixes.as_deref_mut(), mask) {
-            // Below two steps there is no prefix worth keeping.
-            (Some(p), Some(mask)) if (2..128).contains(&upto) => {
-                p.distances(&self.f64_balls, l, bits, upto, mask).to_vec()
-            }
+            (Some(p), Some(mask)) if upto < 128 => p.distances(&self.f64_balls, l, bits, upto, mask).to_vec(),
             _ => self.f64_balls.base_distances_flat(l, bits, upto, &flat),
         };
         let fast = self.evaluate(

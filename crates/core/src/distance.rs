@@ -650,10 +650,8 @@ fn named(
 }
 
 /// Two components that meet at a branch point: an end of an interval of A
-/// and one of B with the same endpoint id, on the same side, whose types
-/// differ in one step flat there (the flip rule of
-/// [`crate::motion::components`]): one realization, distance 0. Not in
-/// several steps at once: at Peaucellier's fold such types are 6 apart.
+/// and one of B on the same side that are one end by the flip rule
+/// ([`crate::roots::Endpoint::flips_to`]): one realization, distance 0.
 fn shared_pair(
     space: &CayleySpace<f64>,
     (ca, cb): (&Component, &Component),
@@ -664,14 +662,12 @@ fn shared_pair(
         [(&iv.lower, false), (&iv.upper, true)].map(|(e, upper)| (e, upper, &iv.ty))
     };
     let (a, b) = ca.intervals.iter().flat_map(|&i| ends(i)).find_map(|(ea, upper_a, ta)| {
-        let flip = |tb: &RealizationType| ea.events.iter().any(|e| &ta.flipped(e.step) == tb);
-        cb.intervals
+        let (eb, _, tb) = cb
+            .intervals
             .iter()
             .flat_map(|&j| ends(j))
-            .find(|&(eb, upper_b, tb)| eb.id == ea.id && upper_b == upper_a && flip(tb))
-            .map(|(eb, _, tb)| {
-                (Realization { ty: ta.clone(), lambda: ea.lambda }, Realization { ty: tb.clone(), lambda: eb.lambda })
-            })
+            .find(|&(eb, upper_b, tb)| upper_b == upper_a && ea.flips_to(ta, eb, tb))?;
+        Some((Realization { ty: ta.clone(), lambda: ea.lambda }, Realization { ty: tb.clone(), lambda: eb.lambda }))
     })?;
     let certificate = Certificate {
         lower: 0.0,

@@ -13,7 +13,7 @@
 use std::cmp::Ordering;
 
 use crate::real::{Jet, Real};
-use crate::realize::{Construction, Event, P2};
+use crate::realize::{Construction, Event, P2, RealizationType};
 use crate::tolerance;
 
 /// An interval end: its λ, the flat steps there (one in a generic scene),
@@ -26,6 +26,17 @@ pub struct Endpoint<T> {
     pub events: Vec<Event>,
     /// Equal for the ends of two types that meet at this root.
     pub id: usize,
+}
+
+impl<T> Endpoint<T> {
+    /// Whether `other`, an end of type `other_ty`, is this end of type `ty`
+    /// by the flip rule: the same root, and the types one step flat here
+    /// apart (the step's two orientations coincide there, so one
+    /// realization). One step only: two flat steps flipped at once can be
+    /// another realization (Peaucellier's fold).
+    pub fn flips_to(&self, ty: &RealizationType, other: &Endpoint<T>, other_ty: &RealizationType) -> bool {
+        self.id == other.id && self.events.iter().any(|e| &ty.flipped(e.step) == other_ty)
+    }
 }
 
 /// Hands out endpoint ids: one per root found, counting from 1.
