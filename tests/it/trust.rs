@@ -538,3 +538,55 @@ fn touching_ends_are_found_on_every_base_and_not_listed_twice() {
     assert_eq!(s.components.list.len(), 2);
     assert_eq!(s.components.connected_set_count(), 1, "both steps B and D folded at λ = 2: all types meet");
 }
+
+/// The certifier's double-double Newton construction is the plain
+/// double-double one with zero slopes (built once, mapped): its numbers are
+/// exactly those that building it in slope arithmetic gives, on every
+/// bundled scene, every hard case and a chain.
+#[test]
+fn the_slope_construction_mapped_from_the_plain_one_is_the_one_built_in_slopes() {
+    use caymos::real::Slope;
+    use caymos::realize::Construction;
+    let scenes = bundled::BUNDLED.iter().filter_map(|s| bundled::resolve(Some(s.name)).ok());
+    let mut checked = 0;
+    for scene in scenes.chain(caymos::generate::hard_cases()).chain([chain(40)]) {
+        let linkage = caymos::linkage::Linkage::from_scene(&scene);
+        let Some(Ok(dec)) = caymos::decompose::decompose(&linkage, scene.base.map(|b| b.0)).ok() else { continue };
+        let (Ok(built), Ok(plain)) =
+            (Construction::<Slope<Dd>>::new(&linkage, &dec), Construction::<Dd>::new(&linkage, &dec))
+        else {
+            continue;
+        };
+        assert_eq!(format!("{built:?}"), format!("{:?}", plain.map(Slope::constant)), "{}", scene.name);
+        checked += 1;
+    }
+    assert!(checked >= 12, "only {checked} scenes built");
+}
+
+/// The lazy walk asks the certifier nothing it cannot prove where the
+/// exhaustive sweep can: a bundled scene whose full analysis rests on no
+/// estimate says the same lazily (it used to count the flat step's own
+/// slack at each end, zero by construction, as 3 estimated decisions).
+#[test]
+fn a_lazy_report_warns_of_estimates_only_where_the_full_one_does() {
+    let estimated = |a: &caymos::analysis::Analysis| {
+        a.warnings.iter().find_map(|w| match w {
+            Warning::EstimatedDecisions { count } => Some(*count),
+            _ => None,
+        })
+    };
+    let mut compared = 0;
+    for b in bundled::BUNDLED {
+        let scene = bundled::resolve(Some(b.name)).expect("bundled");
+        let Ok(full) = analyse_with(scene.clone(), None, Scope::Full) else { continue };
+        if full.outcome.is_err() {
+            continue;
+        }
+        let lazy = analyse_with(scene, None, Scope::Lazy).expect("a valid scene");
+        if estimated(&full).is_none() {
+            assert_eq!(estimated(&lazy), None, "{}", b.name);
+            compared += 1;
+        }
+    }
+    assert!(compared >= 8, "only {compared} scenes compared");
+}

@@ -648,21 +648,23 @@ impl<'a, T: Real> Walker<'a, T> {
     /// every step whose slack is zero to double-double resolution is flat
     /// there too (a non-generic end).
     fn proven_events(&self, bits: &[bool], lambda: T, mut events: Vec<Event>) -> Vec<Event> {
-        let questions: Vec<(usize, Kind)> =
-            (0..self.con.steps.len()).flat_map(|k| self.kinds(k).iter().map(move |&kind| (k, kind))).collect();
         for _ in 0..self.con.steps.len() {
-            let at = At { lambda: lambda.to_f64(), events: &events[..1] };
+            let first = events[0];
+            // The flat step's own slacks are zero there by construction (no
+            // ball proves that): not asked.
+            let questions: Vec<(usize, Kind)> = (0..self.con.steps.len())
+                .filter(|&k| k != first.step)
+                .flat_map(|k| self.kinds(k).iter().map(move |&kind| (k, kind)))
+                .collect();
+            let at = At { lambda: lambda.to_f64(), events: &[first] };
             let signs = self.cert.slack_signs(bits, at, &questions);
-            let listed = |e: &Event| events[..1].iter().any(|x| x.step == e.step);
             let candidates = questions.iter().zip(&signs).map(|(&(step, kind), &s)| (Event { step, kind }, s));
-            let failed = candidates.clone().find(|(e, s)| *s == Sign::Negative && !listed(e));
-            if let Some((e, _)) = failed {
+            if let Some((e, _)) = candidates.clone().find(|(_, s)| *s == Sign::Negative) {
                 events = vec![e];
                 continue;
             }
-            let first = events[0];
             events = vec![first];
-            events.extend(candidates.filter(|(e, s)| *s == Sign::Zero && e.step != first.step).map(|(e, _)| e));
+            events.extend(candidates.filter(|(_, s)| *s == Sign::Zero).map(|(e, _)| e));
             break;
         }
         events.sort();
