@@ -26,6 +26,11 @@ pub fn json(out: &Output) -> serde_json::Value {
     serde_json::from_slice(&out.stdout).unwrap_or_else(|e| panic!("not JSON ({e}): {}", stdout(out)))
 }
 
+/// The analysis's own base, then every other valid base of the scene.
+pub fn every_base(a: &Analysis, s: &Solved) -> Vec<[usize; 2]> {
+    std::iter::once(s.dec.base).chain(s.dec.other_bases(&a.linkage)).collect()
+}
+
 /// A scratch directory for this test run's files.
 pub fn scratch(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("caymos-it-{}-{name}", std::process::id()));

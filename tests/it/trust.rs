@@ -279,7 +279,7 @@ fn hard_cases_have_the_same_connected_sets_on_every_valid_base() {
     for exponent in [150, -150] {
         let scene = tangency_scaled(exponent);
         let (a, s) = solve(scene.clone());
-        for base in std::iter::once(s.dec.base).chain(s.dec.other_bases(&a.linkage)) {
+        for base in every_base(&a, &s) {
             let (_, t) = solve_with(scene.clone(), Some(base), Scope::Full);
             assert_eq!(t.components.connected_set_count(), 1, "1e{exponent}: base {base:?}");
             assert_eq!(t.union.len(), 1, "1e{exponent}: base {base:?}");
@@ -504,7 +504,7 @@ fn a_no_realization_that_rests_on_estimates_says_it_is_not_proven() {
     let scene = tangency_scaled(-300);
     let (a, s) = solve(scene.clone());
     let mut seen = 0;
-    for base in std::iter::once(s.dec.base).chain(s.dec.other_bases(&a.linkage)) {
+    for base in every_base(&a, &s) {
         let (_, t) = solve_with(scene.clone(), Some(base), Scope::Full);
         if let Some(caymos::analysis::NoRealization::NoTypeCloses { estimated, .. }) =
             caymos::analysis::no_realization(&t, a.linkage.scale)
@@ -527,7 +527,7 @@ fn a_no_realization_that_rests_on_estimates_says_it_is_not_proven() {
 fn touching_ends_are_found_on_every_base_and_not_listed_twice() {
     let scene = caymos::generate::four_bar_with_dyad([1.0, 1.0, 1.0, 2.0], 1.0, 3.0);
     let (a, s) = solve(scene.clone());
-    for base in std::iter::once(s.dec.base).chain(s.dec.other_bases(&a.linkage)) {
+    for base in every_base(&a, &s) {
         let (_, t) = solve_with(scene.clone(), Some(base), Scope::Full);
         assert!(!t.space.intervals.is_empty(), "base {base:?}: no realization");
         assert!(caymos::analysis::no_realization(&t, a.linkage.scale).is_none(), "base {base:?}");

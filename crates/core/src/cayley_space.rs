@@ -26,9 +26,7 @@ use crate::decompose::Decomposition;
 use crate::invert::Inverter;
 use crate::real::{Jet, Real};
 use crate::realize::{Construction, Event, Kind, P2, RealizationType};
-use crate::roots::{
-    Endpoint, EndpointIds, Extremum, base_distance_jet_in, bisect, cmp, cosine_sample, side_signs, sign,
-};
+use crate::roots::{Endpoint, EndpointIds, Extremum, base_distance_jet, bisect, cmp, cosine_sample, side_signs, sign};
 use crate::tolerance;
 
 /// A maximal closed λ-interval on which one realization type exists
@@ -290,7 +288,7 @@ impl<T: Real> Sweep<'_, T> {
     /// d_k at λ for the prefix `bits`, with its first and second derivative
     /// (realized into the sweep's one block of positions).
     fn distance(&self, k: usize, bits: &[bool], lambda: T) -> Option<Jet<T>> {
-        base_distance_jet_in(&self.jet, &mut self.positions.borrow_mut(), bits, k, lambda)
+        base_distance_jet(&self.jet, &mut self.positions.borrow_mut(), bits, k, lambda)
     }
 
     /// Slack of step k as a jet (value, slope, curvature).

@@ -284,10 +284,19 @@ impl<'a, T: Real> Walker<'a, T> {
         self.kinds[k]
     }
 
+    /// Every step's every way to stop closing ([`Self::kinds`]), in step
+    /// order, but for step `except`'s.
+    fn questions_except(&self, except: Option<usize>) -> Vec<(usize, Kind)> {
+        (0..self.con.steps.len())
+            .filter(|&k| Some(k) != except)
+            .flat_map(|k| self.kinds(k).iter().map(move |&kind| (k, kind)))
+            .collect()
+    }
+
     /// Step k's slack at λ alone (realizing only the steps before it).
     fn slack_at(&self, s: Along<T>, lambda: T) -> Option<Jet<T>> {
         self.count_steps(s.k + 1);
-        let d = base_distance_jet(self.jet, s.bits, s.k, lambda)?;
+        let d = base_distance_jet(self.jet, &mut self.scratch.borrow_mut(), s.bits, s.k, lambda)?;
         Some(self.slack(s.k, s.kind, d, s.dir))
     }
 
@@ -315,9 +324,7 @@ impl<'a, T: Real> Walker<'a, T> {
     /// orientations coincide, and later steps do not see its bit). `None`
     /// for any other start, and past 16 flat steps (2^16 types).
     fn isolated_start(&mut self, ty: &RealizationType, lambda: T) -> Option<Vec<OrientedInterval<T>>> {
-        let n = self.con.steps.len();
-        let questions: Vec<(usize, Kind)> =
-            (0..n).flat_map(|k| self.kinds(k).iter().map(move |&kind| (k, kind))).collect();
+        let questions = self.questions_except(None);
         let l = lambda.to_f64();
         let at = |x: f64| At { lambda: x, events: &[] };
         let here = self.cert.slack_signs(&ty.0, at(l), &questions);
@@ -652,10 +659,7 @@ impl<'a, T: Real> Walker<'a, T> {
             let first = events[0];
             // The flat step's own slacks are zero there by construction (no
             // ball proves that): not asked.
-            let questions: Vec<(usize, Kind)> = (0..self.con.steps.len())
-                .filter(|&k| k != first.step)
-                .flat_map(|k| self.kinds(k).iter().map(move |&kind| (k, kind)))
-                .collect();
+            let questions = self.questions_except(Some(first.step));
             let at = At { lambda: lambda.to_f64(), events: &[first] };
             let signs = self.cert.slack_signs(bits, at, &questions);
             let candidates = questions.iter().zip(&signs).map(|(&(step, kind), &s)| (Event { step, kind }, s));

@@ -63,14 +63,10 @@ pub fn cosine_sample<T: Real>(from: T, to: T, i: usize, n: usize) -> T {
 }
 
 /// Step `k`'s base distance d_k at λ for the type prefix `bits` (at least
-/// `k` bits), with its first and second derivative in λ; `None` where an
-/// earlier step cannot close or the distance is not finite.
-pub fn base_distance_jet<T: Real>(jet: &Construction<Jet<T>>, bits: &[bool], k: usize, lambda: T) -> Option<Jet<T>> {
-    base_distance_jet_in(jet, &mut Vec::new(), bits, k, lambda)
-}
-
-/// [`base_distance_jet`], realizing into `pos` (its allocation reused).
-pub fn base_distance_jet_in<T: Real>(
+/// `k` bits), with its first and second derivative in λ, realized into
+/// `pos` (the caller's block of positions, reused); `None` where an earlier
+/// step cannot close or the distance is not finite.
+pub fn base_distance_jet<T: Real>(
     jet: &Construction<Jet<T>>,
     pos: &mut Vec<P2<Jet<T>>>,
     bits: &[bool],
