@@ -125,10 +125,12 @@ impl Prefixes {
             self.places.clear();
         }
         let n = con.n_joints;
-        let place = self.places.entry(key).or_insert_with(|| Realized {
-            bits: Vec::new(),
-            levels: con.start(lambda),
-            distances: Vec::new(),
+        let place = self.places.entry(key).or_insert_with(|| {
+            // Room for every step the place may be asked about: no regrowth per step.
+            let steps = con.steps.len().min(128);
+            let mut levels = Vec::with_capacity((steps + 1) * n);
+            con.start_into(&mut levels, lambda);
+            Realized { bits: Vec::with_capacity(steps), levels, distances: Vec::with_capacity(steps) }
         });
         let common = place.bits.iter().zip(&bits[..upto]).take_while(|(a, b)| a == b).count();
         if common < upto {

@@ -601,12 +601,14 @@ impl<'a, T: Real> Walker<'a, T> {
         let half = T::from_f64(0.5);
         let length = (right.lambda - near.lambda) * dir;
         let coarse = T::from_f64(tolerance::WELL_SAMPLED_COARSE * self.con.scale);
-        // Distances to each end at the gap's two ends, if the gap lies on one side of it.
-        let beside: Vec<(T, T)> = ends
+        // Distances t to each end at the gap's two ends, with their square
+        // roots (the same for every slack), if the gap lies on one side of it.
+        let beside: Vec<[(T, T); 2]> = ends
             .iter()
             .filter(|&&e| !between(e, near.lambda, right.lambda))
             .map(|&e| ((near.lambda - e).abs(), (right.lambda - e).abs()))
             .filter(|&(t0, t1)| t0 > T::zero() && t1 > T::zero())
+            .map(|(t0, t1)| [(t0, t0.sqrt()), (t1, t1.sqrt())])
             .collect();
         let n = near.d.len().min(right.d.len());
         let mut worst = 0.0f64;
@@ -623,8 +625,8 @@ impl<'a, T: Real> Walker<'a, T> {
                     * half
                     * ((if s0.v > T::zero() { s0.v } else { T::zero() }) + s1.v);
                 let mut misfit = quadratic_misfit(s0, s1, length);
-                for &(t0, t1) in &beside {
-                    let m = root_misfit(s0, s1, t0, t1);
+                for &[end0, end1] in &beside {
+                    let m = root_misfit(s0, s1, end0, end1);
                     if m < misfit {
                         misfit = m;
                     }
@@ -931,13 +933,12 @@ fn quadratic_misfit<T: Real>(s0: Jet<T>, s1: Jet<T>, length: T) -> T {
 }
 
 /// [`quadratic_misfit`] of the models in u = √t, t the distance to an end
-/// (t0, t1 > 0 at the gap's ends, on one side of it): with t′ = ±1 along
-/// the gap, s_u = 2u·s_t and s_uu = 4t·s_tt + 2s_t.
-fn root_misfit<T: Real>(s0: Jet<T>, s1: Jet<T>, t0: T, t1: T) -> T {
+/// (t0, t1 > 0 at the gap's ends, on one side of it, each given with its
+/// u = √t): with t′ = ±1 along the gap, s_u = 2u·s_t and s_uu = 4t·s_tt + 2s_t.
+fn root_misfit<T: Real>(s0: Jet<T>, s1: Jet<T>, (t0, u0): (T, T), (t1, u1): (T, T)) -> T {
     let (two, four) = (T::from_f64(2.0), T::from_f64(4.0));
     // Slopes in t: along the gap when it leads away from the end.
     let away = if t1 > t0 { T::from_f64(1.0) } else { T::from_f64(-1.0) };
-    let (u0, u1) = (t0.sqrt(), t1.sqrt());
     let in_u = |s: Jet<T>, t: T, u: T| {
         let st = s.d * away;
         Jet { v: s.v, d: two * u * st, s: four * t * s.s + two * st }

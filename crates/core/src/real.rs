@@ -59,8 +59,8 @@ pub trait Real:
     const APEX_BY_RECIPROCAL: bool = false;
     /// Where [`Self::hypot`] may square its components directly: sizes
     /// (the larger component) whose squares keep the type's precision. Set
-    /// where a division costs far more than a product ([`Ball`], [`Dd`]);
-    /// `None`: always scaled, so values stay those of one formula.
+    /// where a division costs far more than a product ([`Ball`], [`Dd`],
+    /// and jets over f64); `None`: always scaled.
     const HYPOT_SQUARES: Option<[f64; 2]> = None;
     /// √(x² + y²) without squaring a length: scaled by the larger of |x|, |y|
     /// so that scenes near 1e±300 neither overflow nor underflow; squared
@@ -82,6 +82,12 @@ pub trait Real:
 
 impl Real for f64 {
     const UNIT_ROUNDOFF: f64 = f64::EPSILON / 2.0;
+    /// For the jets and slopes over f64 (f64 itself calls libm's `hypot`):
+    /// squares of this size neither overflow nor leave the normal range,
+    /// and the direct formula spares a jet two divisions on the walk's hot
+    /// path (1000-step walk 174 → 159 ms with the misfit roots hoisted;
+    /// its endpoint error unchanged or smaller).
+    const HYPOT_SQUARES: Option<[f64; 2]> = Some([1e-140, 1e140]);
     fn from_f64(x: f64) -> Self {
         x
     }

@@ -640,7 +640,7 @@ impl<T: Real> Construction<T> {
     }
 
     /// [`Self::start`] in `pos` (cleared first, its allocation reused).
-    fn start_into(&self, pos: &mut Vec<P2<T>>, lambda: T) {
+    pub(crate) fn start_into(&self, pos: &mut Vec<P2<T>>, lambda: T) {
         let zero = T::zero();
         pos.clear();
         pos.resize(self.n_joints, [zero, zero]);
