@@ -54,8 +54,7 @@ pub trait Real:
     /// hot path of the double-double self-check and end refinement); the
     /// quotients differ by a few units of the type's roundoff. False for
     /// f64, and so for its jets, whose values stay exactly those of the
-    /// formula as written (the walk's jets and the plain realization agree
-    /// bit for bit).
+    /// formula as written.
     const APEX_BY_RECIPROCAL: bool = false;
     /// Where [`Self::hypot`] may square its components directly: sizes
     /// (the larger component) whose squares keep the type's precision. Set
@@ -82,11 +81,14 @@ pub trait Real:
 
 impl Real for f64 {
     const UNIT_ROUNDOFF: f64 = f64::EPSILON / 2.0;
-    /// For the jets and slopes over f64 (f64 itself calls libm's `hypot`):
-    /// squares of this size neither overflow nor leave the normal range,
-    /// and the direct formula spares a jet two divisions on the walk's hot
-    /// path (1000-step walk 174 → 159 ms with the misfit roots hoisted;
-    /// its endpoint error unchanged or smaller).
+    /// For the jets and slopes over f64: squares of this size neither
+    /// overflow nor leave the normal range, and the direct formula spares a
+    /// jet two divisions on the walk's hot path (1000-step walk 174 → 159 ms
+    /// with the misfit roots hoisted; its endpoint error unchanged or
+    /// smaller). f64 itself keeps libm's correctly rounded `hypot`: bar
+    /// lengths are measured from the drawing with it (the direct formula
+    /// moved some in their last bit), so a jet's value may differ from the
+    /// plain realization's by a few units of roundoff.
     const HYPOT_SQUARES: Option<[f64; 2]> = Some([1e-140, 1e140]);
     fn from_f64(x: f64) -> Self {
         x
