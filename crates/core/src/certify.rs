@@ -482,11 +482,22 @@ impl Certifier {
         let bracket = if enclose.is_some() { self.bracket(con, bits, at, lambda) } else { None };
         let enclosures = bracket.zip(enclose).map(|(l, f)| f(l)).unwrap_or_default();
         // The plain values are only needed where a ball proves nothing.
+        // Where the balls were computed their midpoints serve: each ball
+        // operation computes its midpoint as `T` does, from the bracket's
+        // centre λ (f64 balls square hypot's components where f64 calls
+        // libm, a last-bit difference: either is an evaluation in `T`, all
+        // that `estimate` and the hopeless test read). A plain realization
+        // only where no ball was.
         let all_proven = questions.iter().all(|&(k, kind)| {
             enclosures.get(k).is_some_and(|&d| kind.slack_value(con.steps[k].r1, con.steps[k].r2, d).sign().is_some())
         });
-        let values =
-            if all_proven { Vec::new() } else { plain.base_distances_flat(T::from_dd(lambda), bits, upto, flat) };
+        let values = if all_proven {
+            Vec::new()
+        } else if bracket.is_some() && !enclosures.is_empty() {
+            enclosures.iter().map(|d| d.m).collect()
+        } else {
+            plain.base_distances_flat(T::from_dd(lambda), bits, upto, flat)
+        };
         questions
             .iter()
             .map(|&(k, kind)| {
