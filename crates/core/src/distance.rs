@@ -634,7 +634,9 @@ pub fn closest_pair(
 }
 
 /// The realization half `h` names at `t` (its λ as an f64), with its Cayley
-/// vector in f64 (an end placed exactly flat).
+/// vector in f64. A name at the end's λ (t = 0, or t² below its ulp) is the
+/// end's realization: its flat steps are placed exactly flat (computed, they
+/// would stand √rounding high, 1e-8 of the scale).
 fn named(
     con: &Construction<f64>,
     ccv: &[[usize; 2]],
@@ -644,7 +646,7 @@ fn named(
 ) -> (Realization, Option<Vec<f64>>) {
     let seg = &segs[hs[h].segment];
     let r = Realization { ty: seg.ty.clone(), lambda: hs[h].lambda(t, seg) };
-    let flat: &[usize] = if t == 0.0 { &hs[h].flat_steps } else { &[] };
+    let flat: &[usize] = if r.lambda == hs[h].end { &hs[h].flat_steps } else { &[] };
     let v = con.realize_flat(r.lambda, &r.ty.0, con.steps.len(), flat).ok().map(|p| cayley_vector(&points(&p), ccv));
     (r, v)
 }
