@@ -219,6 +219,9 @@ pub struct StepGeom<T> {
     pub r1: T,
     /// |w v| inside the cluster on w.
     pub r2: T,
+    /// r1 + r2 and r1 − r2, which the apex reads several times each (as
+    /// computed there, so every realization's numbers stay the same).
+    sum_diff: [T; 2],
     /// Other joints of the cluster on u, placed from (u, v); likewise for w.
     pub members_u: Vec<Member<T>>,
     /// Other joints of the cluster on w, placed from (w, v).
@@ -280,19 +283,23 @@ pub fn slack<T: Real>(r1: T, r2: T, d: T) -> T {
 /// A slack down to `-tol` is clamped to a flat triangle; below, `Err(slack)`.
 pub fn apex<T: Real>(pu: P2<T>, pw: P2<T>, r1: T, r2: T, plus: bool, tol: f64) -> Result<P2<T>, Option<f64>> {
     let e = sub(pw, pu);
-    apex_flat(pu, e, norm(e), r1, r2, plus, tol, false)
+    apex_flat(pu, e, norm(e), sum_diff(r1, r2), plus, tol, false)
+}
+
+/// [r1 + r2, r1 − r2].
+fn sum_diff<T: Real>(r1: T, r2: T) -> [T; 2] {
+    [r1 + r2, r1 - r2]
 }
 
 /// [`apex`] from the base vector `e = pw − pu` and its length `d = |e|`
 /// (computed once by the caller, which also records d as the step's base
-/// distance), optionally forcing the triangle flat (height zero).
-#[allow(clippy::too_many_arguments)]
+/// distance) and the sides as [r1 + r2, r1 − r2] ([`sum_diff`]), optionally
+/// forcing the triangle flat (height zero).
 fn apex_flat<T: Real>(
     pu: P2<T>,
     e: P2<T>,
     d: T,
-    r1: T,
-    r2: T,
+    [sum, diff]: [T; 2],
     plus: bool,
     tol: f64,
     flat: bool,
@@ -300,8 +307,9 @@ fn apex_flat<T: Real>(
     if d.partial_cmp(&T::zero()) != Some(std::cmp::Ordering::Greater) {
         return Err(None);
     }
-    let stretch = r1 + r2 - d;
-    let fold = d - (r1 - r2).abs();
+    let gap = diff.abs();
+    let stretch = sum - d;
+    let fold = d - gap;
     let s = if stretch < fold { stretch } else { fold };
     if s.to_f64() < -tol {
         return Err(Some(s.to_f64()));
@@ -315,14 +323,13 @@ fn apex_flat<T: Real>(
     let (h2, along, ex, ey) = if by_reciprocal {
         let inv = T::from_f64(1.0) / d;
         let half_inv = inv * T::from_f64(0.5);
-        let h2 = ((r1 + r2 + d) * half_inv * (stretch.clamp_nonneg() * inv))
-            * ((d + (r1 - r2).abs()) * half_inv * (fold.clamp_nonneg() * inv));
-        (h2, (d + (r1 - r2) * ((r1 + r2) * inv)) * T::from_f64(0.5), e[0] * inv, e[1] * inv)
+        let h2 = ((sum + d) * half_inv * (stretch.clamp_nonneg() * inv))
+            * ((d + gap) * half_inv * (fold.clamp_nonneg() * inv));
+        (h2, (d + diff * (sum * inv)) * T::from_f64(0.5), e[0] * inv, e[1] * inv)
     } else {
         let two_d = T::from_f64(2.0) * d;
-        let h2 = ((r1 + r2 + d) / two_d * (stretch.clamp_nonneg() / d))
-            * ((d + (r1 - r2).abs()) / two_d * (fold.clamp_nonneg() / d));
-        (h2, (d + (r1 - r2) * ((r1 + r2) / d)) / T::from_f64(2.0), e[0] / d, e[1] / d)
+        let h2 = ((sum + d) / two_d * (stretch.clamp_nonneg() / d)) * ((d + gap) / two_d * (fold.clamp_nonneg() / d));
+        (h2, (d + diff * (sum / d)) / T::from_f64(2.0), e[0] / d, e[1] / d)
     };
     let h = if flat { zero } else { d * h2.sqrt() };
     let h = if plus { h } else { -h };
@@ -377,6 +384,7 @@ impl<T: Real> Construction<T> {
                     w: s.w,
                     r1: c(s.r1),
                     r2: c(s.r2),
+                    sum_diff: sum_diff(c(s.r1), c(s.r2)),
                     members_u: members(&s.members_u),
                     members_w: members(&s.members_w),
                 })
@@ -396,6 +404,7 @@ impl Construction<f64> {
         for s in &mut c.steps {
             s.r1 *= f;
             s.r2 *= f;
+            s.sum_diff = sum_diff(s.r1, s.r2);
         }
         for p in c.shapes.iter_mut().flatten() {
             p.1 = [p.1[0] * f, p.1[1] * f];
@@ -490,7 +499,7 @@ impl<T: Real> Construction<T> {
             .map(|s| {
                 let (r1, members_u) = members(s.cluster_u, s.u, s.vertex);
                 let (r2, members_w) = members(s.cluster_w, s.w, s.vertex);
-                StepGeom { vertex: s.vertex, u: s.u, w: s.w, r1, r2, members_u, members_w }
+                StepGeom { vertex: s.vertex, u: s.u, w: s.w, r1, r2, sum_diff: sum_diff(r1, r2), members_u, members_w }
             })
             .collect();
         Ok(Construction { n_joints: linkage.n_joints(), base: dec.base, steps, scale: linkage.scale, shapes })
@@ -663,7 +672,7 @@ impl<T: Real> Construction<T> {
         // One base vector and length per step: recorded, then built on.
         let e = sub(pos[s.w], pos[s.u]);
         let dk = norm(e);
-        let v = match apex_flat(pos[s.u], e, dk, s.r1, s.r2, plus, tol, flat) {
+        let v = match apex_flat(pos[s.u], e, dk, s.sum_diff, plus, tol, flat) {
             Ok(v) => v,
             Err(Some(slack)) => return (dk, Err(Unrealizable::Infeasible { step: k, slack })),
             Err(None) => return (dk, Err(Unrealizable::Degenerate { step: k })),
