@@ -286,7 +286,7 @@ fn a_construction_converts_between_scalar_types_exactly() {
 /// extends and cuts kept prefixes (each type's steps in turn, then the next
 /// type). At every end its own flat step's slack is exactly zero: no f64
 /// ball can prove a sign there, so each scene also exercises the fallback to
-/// double-double, which answers zero.
+/// double-double, which answers zero from the kept double-double prefixes.
 #[test]
 fn kept_prefixes_answer_as_fresh_realizations() {
     use caymos::certify::{At, Certifier, Prefixes, Sign};

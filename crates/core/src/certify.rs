@@ -84,34 +84,48 @@ type BracketKey = ([u64; 2], Event, u128, bool);
 /// prefix of bits 1..k, then for 1..k+1 with each value of bit k: each
 /// question places only the steps past the longest prefix already realized
 /// there. The positions are those a realization from scratch gives (the
-/// same operations in the same order), so no answer changes.
+/// same operations in the same order), so no answer changes. The same for
+/// the double-double plain values that questions at exact zeros read (no
+/// ball proves a zero; non-generic scenes ask many at one end).
 #[derive(Debug, Default)]
 pub struct Prefixes {
-    places: IntMap<PlaceKey, Realized>,
-    /// The last answer's distances (reused: no allocation per question).
-    view: Vec<Ball<f64>>,
+    balls: Kept<Ball<f64>>,
+    dd: Kept<Dd>,
 }
 
-/// A place: its λ ball (midpoint and radius bits) and its flat steps (bit i for step i).
+/// A place: its λ (a ball's midpoint and radius bits, or a double-double's
+/// two parts) and its flat steps (bit i for step i).
 type PlaceKey = (u64, u64, u128);
+
+/// The realized prefixes of one arithmetic, by place.
+#[derive(Debug)]
+struct Kept<T> {
+    places: IntMap<PlaceKey, Realized<T>>,
+    /// The last answer's distances (reused: no allocation per question).
+    view: Vec<T>,
+}
+
+impl<T> Default for Kept<T> {
+    fn default() -> Self {
+        Kept { places: IntMap::default(), view: Vec::new() }
+    }
+}
 
 /// One place's realized prefix.
 #[derive(Debug)]
-struct Realized {
+struct Realized<T> {
     /// The orientation bits of the steps placed.
     bits: Vec<bool>,
     /// The positions after 0, 1, …, `bits.len()` steps, one block of joints each.
-    levels: Vec<P2<Ball<f64>>>,
+    levels: Vec<P2<T>>,
     /// d_i of each step placed.
-    distances: Vec<Ball<f64>>,
+    distances: Vec<T>,
 }
 
 impl Prefixes {
     /// [`Construction::base_distances_flat`] at the ball `lambda` with the
     /// steps of `flat` (bit i for step i) placed flat, from the realized
-    /// prefix kept for that place, borrowed until the next question. Past
-    /// [`tolerance::PREFIX_PLACES`] places the cache starts afresh (a bound
-    /// on memory, not a decision).
+    /// prefix kept for that place, borrowed until the next question.
     fn distances(
         &mut self,
         con: &Construction<Ball<f64>>,
@@ -120,7 +134,28 @@ impl Prefixes {
         upto: usize,
         flat: u128,
     ) -> &[Ball<f64>] {
-        let key = (lambda.m.to_bits(), lambda.r.to_bits(), flat);
+        self.balls.distances(con, (lambda.m.to_bits(), lambda.r.to_bits(), flat), lambda, bits, upto, flat)
+    }
+
+    /// [`Self::distances`] of the double-double plain construction at `lambda`.
+    fn dd_distances(&mut self, con: &Construction<Dd>, lambda: Dd, bits: &[bool], upto: usize, flat: u128) -> &[Dd] {
+        self.dd.distances(con, (lambda.hi.to_bits(), lambda.lo.to_bits(), flat), lambda, bits, upto, flat)
+    }
+}
+
+impl<T: Real> Kept<T> {
+    /// [`Prefixes::distances`] in `T`, the place given by `key`. Past
+    /// [`tolerance::PREFIX_PLACES`] places the cache starts afresh (a bound
+    /// on memory, not a decision).
+    fn distances(
+        &mut self,
+        con: &Construction<T>,
+        key: PlaceKey,
+        lambda: T,
+        bits: &[bool],
+        upto: usize,
+        flat: u128,
+    ) -> &[T] {
         if self.places.len() >= tolerance::PREFIX_PLACES && !self.places.contains_key(&key) {
             self.places.clear();
         }
@@ -370,16 +405,16 @@ impl Certifier {
             (Some(p), Some(mask)) if upto < 128 => p.distances(&self.f64_balls, l, bits, upto, mask).to_vec(),
             _ => self.f64_balls.base_distances_flat(l, bits, upto, &flat),
         };
+        let mut realize = |l: f64| self.f64_plain.base_distances_flat(l, bits, upto, &flat);
         let fast = self.evaluate(
             &self.f64_balls,
             &self.f64_plain,
             bits,
             at,
             lambda,
-            upto,
             questions,
-            &flat,
             Some(&mut enclose),
+            &mut realize,
         );
         if fast.iter().all(|v| v.proven.is_some()) {
             return fast.into_iter().map(|v| v.proven.expect("all proven")).collect();
@@ -402,7 +437,11 @@ impl Certifier {
         let flat: Vec<usize> = flat.into_iter().filter(|&s| s < upto).collect();
         let mut enclose = |l: Ball<Dd>| dd.balls.base_distances_flat(l, bits, upto, &flat);
         let enclose: Option<&mut dyn FnMut(Ball<Dd>) -> Vec<Ball<Dd>>> = if balls { Some(&mut enclose) } else { None };
-        let mut fine = self.evaluate(&dd.balls, &dd.plain, bits, at, refined, upto, &open, &flat, enclose).into_iter();
+        let mut realize = |l: Dd| match (prefixes.as_deref_mut(), mask) {
+            (Some(p), Some(mask)) if upto < 128 => p.dd_distances(&dd.plain, l, bits, upto, mask).to_vec(),
+            _ => dd.plain.base_distances_flat(l, bits, upto, &flat),
+        };
+        let mut fine = self.evaluate(&dd.balls, &dd.plain, bits, at, refined, &open, enclose, &mut realize).into_iter();
         fast.iter()
             .map(|f| {
                 f.proven.unwrap_or_else(|| {
@@ -462,10 +501,11 @@ impl Certifier {
     /// Each question's slack at `at` in `con`'s balls: its proven sign, and
     /// its midpoint (the plain value in `T`). Without a proven bracket of
     /// the end, nothing is proven and the midpoints are taken at `lambda`.
-    /// `flat`: the flat steps before `upto`; `enclose` computes the base
-    /// distances at the bracket (`None`: no bracket is sought, the balls
-    /// prove nothing). The caller passes `None` where even double-double
-    /// balls would not exclude zero.
+    /// `enclose` computes the base distances at the bracket (`None`: no
+    /// bracket is sought, the balls prove nothing; the caller passes `None`
+    /// where even double-double balls would not exclude zero), `realize`
+    /// the plain ones at λ (both as deep as the questions reach, the flat
+    /// steps placed flat).
     #[allow(clippy::too_many_arguments)]
     fn evaluate<T: Real>(
         &self,
@@ -474,10 +514,9 @@ impl Certifier {
         bits: &[bool],
         at: At,
         lambda: Dd,
-        upto: usize,
         questions: &[(usize, Kind)],
-        flat: &[usize],
         enclose: Option<&mut dyn FnMut(Ball<T>) -> Vec<Ball<T>>>,
+        realize: &mut dyn FnMut(T) -> Vec<T>,
     ) -> Vec<Value> {
         let bracket = if enclose.is_some() { self.bracket(con, bits, at, lambda) } else { None };
         let enclosures = bracket.zip(enclose).map(|(l, f)| f(l)).unwrap_or_default();
@@ -496,7 +535,7 @@ impl Certifier {
         } else if bracket.is_some() && !enclosures.is_empty() {
             enclosures.iter().map(|d| d.m).collect()
         } else {
-            plain.base_distances_flat(T::from_dd(lambda), bits, upto, flat)
+            realize(T::from_dd(lambda))
         };
         questions
             .iter()
