@@ -122,40 +122,49 @@ struct Realized<T> {
     distances: Vec<T>,
 }
 
-impl Prefixes {
-    /// [`Construction::base_distances_flat`] at the ball `lambda` with the
-    /// steps of `flat` (bit i for step i) placed flat, from the realized
-    /// prefix kept for that place, borrowed until the next question.
-    fn distances(
-        &mut self,
-        con: &Construction<Ball<f64>>,
-        lambda: Ball<f64>,
-        bits: &[bool],
-        upto: usize,
-        flat: u128,
-    ) -> &[Ball<f64>] {
-        self.balls.distances(con, (lambda.m.to_bits(), lambda.r.to_bits(), flat), lambda, bits, upto, flat)
-    }
+/// A place's λ as two words (see [`PlaceKey`]).
+trait PlaceBits {
+    fn place_bits(&self) -> (u64, u64);
+}
 
-    /// [`Self::distances`] of the double-double plain construction at `lambda`.
-    fn dd_distances(&mut self, con: &Construction<Dd>, lambda: Dd, bits: &[bool], upto: usize, flat: u128) -> &[Dd] {
-        self.dd.distances(con, (lambda.hi.to_bits(), lambda.lo.to_bits(), flat), lambda, bits, upto, flat)
+impl PlaceBits for Ball<f64> {
+    fn place_bits(&self) -> (u64, u64) {
+        (self.m.to_bits(), self.r.to_bits())
     }
 }
 
-impl<T: Real> Kept<T> {
-    /// [`Prefixes::distances`] in `T`, the place given by `key`. Past
+impl PlaceBits for Dd {
+    fn place_bits(&self) -> (u64, u64) {
+        (self.hi.to_bits(), self.lo.to_bits())
+    }
+}
+
+/// The base distances at `lambda` up to `upto` with the flat steps placed
+/// flat: from the prefixes a sweep keeps where given (and the place fits a
+/// word), else realized afresh.
+fn distances_at<T: Real + PlaceBits>(
+    kept: Option<&mut Kept<T>>,
+    con: &Construction<T>,
+    lambda: T,
+    bits: &[bool],
+    upto: usize,
+    (mask, flat): (Option<u128>, &[usize]),
+) -> Vec<T> {
+    match (kept, mask) {
+        (Some(kept), Some(mask)) if upto < 128 => kept.distances(con, lambda, bits, upto, mask).to_vec(),
+        _ => con.base_distances_flat(lambda, bits, upto, flat),
+    }
+}
+
+impl<T: Real + PlaceBits> Kept<T> {
+    /// [`Construction::base_distances_flat`] at `lambda` with the steps of
+    /// `flat` (bit i for step i) placed flat, from the realized prefix kept
+    /// for that place, borrowed until the next question. Past
     /// [`tolerance::PREFIX_PLACES`] places the cache starts afresh (a bound
     /// on memory, not a decision).
-    fn distances(
-        &mut self,
-        con: &Construction<T>,
-        key: PlaceKey,
-        lambda: T,
-        bits: &[bool],
-        upto: usize,
-        flat: u128,
-    ) -> &[T] {
+    fn distances(&mut self, con: &Construction<T>, lambda: T, bits: &[bool], upto: usize, flat: u128) -> &[T] {
+        let (hi, lo) = lambda.place_bits();
+        let key = (hi, lo, flat);
         if self.places.len() >= tolerance::PREFIX_PLACES && !self.places.contains_key(&key) {
             self.places.clear();
         }
@@ -372,7 +381,7 @@ impl Certifier {
             && upto < 128
             && let Some(l) = self.bracket(&self.f64_balls, bits, at, Dd::new(at.lambda))
         {
-            let d = prefixes.distances(&self.f64_balls, l, bits, upto, mask);
+            let d = prefixes.balls.distances(&self.f64_balls, l, bits, upto, mask);
             let steps = &self.f64_balls.steps;
             let proven = |(k, kind): (usize, Kind)| {
                 let d = *d.get(k)?;
@@ -401,9 +410,8 @@ impl Certifier {
         let flat: Vec<usize> = at.events.iter().map(|e| e.step).filter(|&s| s < upto).collect();
         let mask = flat_mask(at.events);
         let mut prefixes = prefixes;
-        let mut enclose = |l: Ball<f64>| match (prefixes.as_deref_mut(), mask) {
-            (Some(p), Some(mask)) if upto < 128 => p.distances(&self.f64_balls, l, bits, upto, mask).to_vec(),
-            _ => self.f64_balls.base_distances_flat(l, bits, upto, &flat),
+        let mut enclose = |l: Ball<f64>| {
+            distances_at(prefixes.as_deref_mut().map(|p| &mut p.balls), &self.f64_balls, l, bits, upto, (mask, &flat))
         };
         let mut realize = |l: f64| self.f64_plain.base_distances_flat(l, bits, upto, &flat);
         let fast = self.evaluate(
@@ -437,10 +445,8 @@ impl Certifier {
         let flat: Vec<usize> = flat.into_iter().filter(|&s| s < upto).collect();
         let mut enclose = |l: Ball<Dd>| dd.balls.base_distances_flat(l, bits, upto, &flat);
         let enclose: Option<&mut dyn FnMut(Ball<Dd>) -> Vec<Ball<Dd>>> = if balls { Some(&mut enclose) } else { None };
-        let mut realize = |l: Dd| match (prefixes.as_deref_mut(), mask) {
-            (Some(p), Some(mask)) if upto < 128 => p.dd_distances(&dd.plain, l, bits, upto, mask).to_vec(),
-            _ => dd.plain.base_distances_flat(l, bits, upto, &flat),
-        };
+        let mut realize =
+            |l: Dd| distances_at(prefixes.as_deref_mut().map(|p| &mut p.dd), &dd.plain, l, bits, upto, (mask, &flat));
         let mut fine = self.evaluate(&dd.balls, &dd.plain, bits, at, refined, &open, enclose, &mut realize).into_iter();
         fast.iter()
             .map(|f| {
@@ -532,7 +538,7 @@ impl Certifier {
         });
         let values = if all_proven {
             Vec::new()
-        } else if bracket.is_some() && !enclosures.is_empty() {
+        } else if !enclosures.is_empty() {
             enclosures.iter().map(|d| d.m).collect()
         } else {
             realize(T::from_dd(lambda))
