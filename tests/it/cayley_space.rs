@@ -60,6 +60,32 @@ proptest! {
         assert_matches_reference(&l, &s);
     }
 
+    /// A realization that only measures base distances (skipping the joints
+    /// no later step reads) gives every d_k bit for bit as the full
+    /// realization does, and fails at the same step.
+    #[test]
+    fn distance_only_realizations_measure_as_full_ones(seed in any::<u64>(), steps in 1usize..8, tri in 0.0f64..0.6, at in 0.0f64..1.0, type_seed in any::<u64>()) {
+        let (_, s) = solve(random_linkage(seed, steps, tri));
+        let con = &s.construction;
+        let Some(&[lo, hi]) = s.union.first() else { return Ok(()) };
+        let lambda = lo + (hi - lo) * at;
+        let bits: Vec<bool> = (0..con.steps.len()).map(|k| type_seed >> (k % 64) & 1 == 1).collect();
+        let mut scratch = Vec::new();
+        for k in 0..con.steps.len() {
+            let full = con.realize_prefix(lambda, &bits, k).map(|pos| con.base_distance(&pos, k));
+            let only = con.prefix_distance_into(&mut scratch, lambda, &bits, k);
+            prop_assert_eq!(full.map(f64::to_bits), only.map(f64::to_bits), "step {}", k);
+        }
+        let full: Vec<f64> = (0..con.steps.len())
+            .map_while(|k| {
+                let pos = con.realize_prefix(lambda, &bits, k).ok()?;
+                Some(con.base_distance(&pos, k))
+            })
+            .collect();
+        let only = con.base_distances(lambda, &bits);
+        prop_assert_eq!(&only[..full.len()], &full[..]);
+    }
+
     /// Scaling a scene scales its intervals and keeps their counts.
     #[test]
     fn intervals_scale_with_the_scene(seed in any::<u64>(), steps in 2usize..6, factor in prop::sample::select(vec![1e-3, 1e3])) {
@@ -316,4 +342,20 @@ fn kept_prefixes_answer_as_fresh_realizations() {
         }
         assert!(zeros > 0, "{name}: no end's own flat step was asked in double-double");
     }
+}
+
+/// A four-bar's two steps stand on the base and no step reads their
+/// vertices: measuring d_1 places no joint at all.
+#[test]
+fn distance_only_realizations_skip_unread_joints() {
+    let (_, s) = solve(four_bar(3.0, 4.0, 2.5, 5.0));
+    let con = &s.construction;
+    let mut pos = Vec::new();
+    let d = con.prefix_distance_into(&mut pos, 4.0, &[true, true], 1).unwrap();
+    assert_eq!(d, 4.0);
+    let at_origin = pos.iter().filter(|p| p[0] == 0.0 && p[1] == 0.0).count();
+    // All but the base joint at (λ, 0).
+    assert_eq!(at_origin, pos.len() - 1);
+    let full = con.realize_prefix(4.0, &[true, true], 1).unwrap();
+    assert!(full.iter().filter(|p| p[0] == 0.0 && p[1] == 0.0).count() < at_origin);
 }

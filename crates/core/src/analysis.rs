@@ -301,9 +301,10 @@ fn refine_end(
     let start = Dd::new(lambda);
     let mut x = start;
     let mut last: Option<f64> = None;
+    let mut pos = Vec::new();
     for _ in 0..DD_NEWTON_STEPS {
-        let pos = jet.realize_prefix(Jet::variable(x), bits, event.step).ok()?;
-        let g = event.kind.slack_value(s.r1, s.r2, jet.base_distance(&pos, event.step));
+        let d = jet.prefix_distance_into(&mut pos, Jet::variable(x), bits, event.step).ok()?;
+        let g = event.kind.slack_value(s.r1, s.r2, d);
         let (value, slope) = if point { (g.d, g.s) } else { (g.v, g.d) };
         if value == Dd::zero() {
             return Some(x);

@@ -186,7 +186,10 @@ impl<T: Real + PlaceBits> Kept<T> {
         while place.bits.len() < upto {
             let k = place.bits.len();
             place.levels.extend_from_within(k * n..(k + 1) * n);
-            let (dk, placed) = con.place_step(&mut place.levels[(k + 1) * n..], k, bits[k], flat >> k & 1 == 1, tol);
+            // Later questions at this place build on these levels: place what any step reads.
+            let reach = con.steps.len();
+            let (dk, placed) =
+                con.place_step(&mut place.levels[(k + 1) * n..], k, (bits[k], flat >> k & 1 == 1), tol, reach);
             if placed.is_err() {
                 place.levels.truncate((k + 1) * n);
                 self.view.clear();
@@ -595,8 +598,8 @@ impl Certifier {
         let pos = RefCell::new(Vec::new());
         let slack_ball = |x: T| -> Option<Ball<T>> {
             let mut pos = pos.borrow_mut();
-            con.realize_prefix_into(&mut pos, Ball::exact(x), bits, event.step).ok()?;
-            Some(event.kind.slack_value(s.r1, s.r2, con.base_distance(&pos, event.step)))
+            let d = con.prefix_distance_into(&mut pos, Ball::exact(x), bits, event.step).ok()?;
+            Some(event.kind.slack_value(s.r1, s.r2, d))
         };
         let slack = |x: T| slack_ball(x)?.sign();
         let centre = T::from_dd(lambda);
@@ -651,9 +654,10 @@ impl Certifier {
         let s = &con.steps[event.step];
         let mut x = lambda;
         let mut last = f64::INFINITY;
+        let mut pos = Vec::new();
         for _ in 0..tolerance::DD_NEWTON_STEPS {
-            let Ok(pos) = con.realize_prefix(Slope::variable(x), bits, event.step) else { break };
-            let g = event.kind.slack_value(s.r1, s.r2, con.base_distance(&pos, event.step));
+            let Ok(d) = con.prefix_distance_into(&mut pos, Slope::variable(x), bits, event.step) else { break };
+            let g = event.kind.slack_value(s.r1, s.r2, d);
             let step = g.v / g.d;
             let size = step.to_f64().abs();
             if !size.is_finite() || size > tolerance::DD_NEWTON_MAX_STEP * con.scale || size >= last {

@@ -305,8 +305,7 @@ impl<'a, T: Real> Walker<'a, T> {
     fn slack_slope_at(&self, s: Along<T>, lambda: T) -> Option<(T, T)> {
         self.count_steps(s.k + 1);
         let mut pos = self.slope_scratch.borrow_mut();
-        self.slopes.realize_prefix_into(&mut pos, Slope::variable(lambda), s.bits, s.k).ok()?;
-        let d = self.slopes.base_distance(&pos, s.k);
+        let d = self.slopes.prefix_distance_into(&mut pos, Slope::variable(lambda), s.bits, s.k).ok()?;
         if !d.v.to_f64().is_finite() {
             return None;
         }

@@ -226,6 +226,41 @@ pub struct StepGeom<T> {
     pub members_u: Vec<Member<T>>,
     /// Other joints of the cluster on w, placed from (w, v).
     pub members_w: Vec<Member<T>>,
+    /// What a realization that only measures base distances must place
+    /// (see [`Construction::place_step`]'s `reach`).
+    first_reads: FirstReads,
+}
+
+/// The first later step that reads each placement of a step (as its u or
+/// w), `usize::MAX` where none does.
+#[derive(Debug, Clone, Default)]
+struct FirstReads {
+    /// The vertex, or any member (which are placed from it).
+    apex: usize,
+    /// Each member: `members_u` then `members_w`.
+    members: Vec<usize>,
+    /// The latest of `members` (0 without members).
+    latest_member: usize,
+}
+
+/// The [`FirstReads`] of every step, from the steps' base joints (one pass
+/// from the last step, keeping each joint's nearest reader so far).
+fn first_reads<T>(steps: &[StepGeom<T>], n_joints: usize) -> Vec<FirstReads> {
+    let mut reader = vec![usize::MAX; n_joints];
+    let mut out: Vec<FirstReads> = steps
+        .iter()
+        .enumerate()
+        .rev()
+        .map(|(k, s)| {
+            let members: Vec<usize> = s.members_u.iter().chain(&s.members_w).map(|m| reader[m.joint]).collect();
+            let apex = members.iter().copied().fold(reader[s.vertex], usize::min);
+            (reader[s.u], reader[s.w]) = (k, k);
+            let latest_member = members.iter().copied().max().unwrap_or(0);
+            FirstReads { apex, members, latest_member }
+        })
+        .collect();
+    out.reverse();
+    out
 }
 
 /// The construction with every length computed in `T` from the scene's numbers.
@@ -304,16 +339,7 @@ fn apex_flat<T: Real>(
     tol: f64,
     flat: bool,
 ) -> Result<P2<T>, Option<f64>> {
-    if d.partial_cmp(&T::zero()) != Some(std::cmp::Ordering::Greater) {
-        return Err(None);
-    }
-    let gap = diff.abs();
-    let stretch = sum - d;
-    let fold = d - gap;
-    let s = if stretch < fold { stretch } else { fold };
-    if s.to_f64() < -tol {
-        return Err(Some(s.to_f64()));
-    }
+    let [stretch, fold, gap] = closing(d, [sum, diff], tol)?;
     let zero = T::zero();
     // h = d·√(dimensionless product): no product of lengths, so no overflow
     // or underflow at any scale f64 can represent.
@@ -334,6 +360,24 @@ fn apex_flat<T: Real>(
     let h = if flat { zero } else { d * h2.sqrt() };
     let h = if plus { h } else { -h };
     Ok([pu[0] + along * ex - h * ey, pu[1] + along * ey + h * ex])
+}
+
+/// Whether the triangle on a base of length `d` with sides [r1 + r2, r1 − r2]
+/// closes (slack down to `-tol` counts as flat): its stretched and folded
+/// slacks and |r1 − r2|, else `Err(slack)`, or `Err(None)` for a base of no
+/// positive length.
+fn closing<T: Real>(d: T, [sum, diff]: [T; 2], tol: f64) -> Result<[T; 3], Option<f64>> {
+    if d.partial_cmp(&T::zero()) != Some(std::cmp::Ordering::Greater) {
+        return Err(None);
+    }
+    let gap = diff.abs();
+    let stretch = sum - d;
+    let fold = d - gap;
+    let s = if stretch < fold { stretch } else { fold };
+    if s.to_f64() < -tol {
+        return Err(Some(s.to_f64()));
+    }
+    Ok([stretch, fold, gap])
 }
 
 /// Base lengths whose reciprocal (and its double-double low part) stays a
@@ -387,6 +431,7 @@ impl<T: Real> Construction<T> {
                     sum_diff: sum_diff(c(s.r1), c(s.r2)),
                     members_u: members(&s.members_u),
                     members_w: members(&s.members_w),
+                    first_reads: s.first_reads.clone(),
                 })
                 .collect(),
             shapes: self.shapes.iter().map(|sh| sh.iter().map(|&(j, p)| (j, [c(p[0]), c(p[1])])).collect()).collect(),
@@ -493,15 +538,21 @@ impl<T: Real> Construction<T> {
                 .collect();
             (length, list)
         };
-        let steps = dec
+        let mut steps: Vec<StepGeom<T>> = dec
             .steps
             .iter()
             .map(|s| {
                 let (r1, members_u) = members(s.cluster_u, s.u, s.vertex);
                 let (r2, members_w) = members(s.cluster_w, s.w, s.vertex);
-                StepGeom { vertex: s.vertex, u: s.u, w: s.w, r1, r2, sum_diff: sum_diff(r1, r2), members_u, members_w }
+                let (vertex, u, w, sum_diff) = (s.vertex, s.u, s.w, sum_diff(r1, r2));
+                let first_reads = FirstReads::default();
+                StepGeom { vertex, u, w, r1, r2, sum_diff, members_u, members_w, first_reads }
             })
             .collect();
+        let reads = first_reads(&steps, linkage.n_joints());
+        for (s, r) in steps.iter_mut().zip(reads) {
+            s.first_reads = r;
+        }
         Ok(Construction { n_joints: linkage.n_joints(), base: dec.base, steps, scale: linkage.scale, shapes })
     }
 
@@ -541,16 +592,19 @@ impl<T: Real> Construction<T> {
         self.realize_flat(lambda, bits, upto, &[])
     }
 
-    /// [`Self::realize_prefix`] into `pos` (its allocation reused; see
-    /// [`Self::base_distances_in`]).
-    pub fn realize_prefix_into(
+    /// Step `k`'s base distance d_k for the type prefix `bits` (at least `k`
+    /// bits), realizing in `pos` (its allocation reused, see
+    /// [`Self::base_distances_in`]) only the joints steps up to k read
+    /// ([`Self::place_step`]); why not where an earlier step cannot close.
+    pub fn prefix_distance_into(
         &self,
         pos: &mut Vec<P2<T>>,
         lambda: T,
         bits: &[bool],
-        upto: usize,
-    ) -> Result<(), Unrealizable> {
-        self.realize_steps_into(pos, lambda, bits, upto, &[], tolerance::FEASIBLE * self.scale, None)
+        k: usize,
+    ) -> Result<T, Unrealizable> {
+        self.realize_steps_into(pos, lambda, bits, (k, k), &[], tolerance::FEASIBLE * self.scale, None)?;
+        Ok(self.base_distance(pos, k))
     }
 
     /// Realize with the steps in `flat` placed exactly flat (height zero):
@@ -580,7 +634,8 @@ impl<T: Real> Construction<T> {
     pub fn base_distances_in(&self, scratch: &mut Vec<P2<T>>, lambda: T, bits: &[bool]) -> Vec<T> {
         let mut d = Vec::with_capacity(self.steps.len());
         let tol = tolerance::FEASIBLE * self.scale;
-        let _ = self.realize_steps_into(scratch, lambda, bits, self.steps.len(), &[], tol, Some(&mut d));
+        let n = self.steps.len();
+        let _ = self.realize_steps_into(scratch, lambda, bits, (n, n), &[], tol, Some(&mut d));
         d
     }
 
@@ -590,7 +645,8 @@ impl<T: Real> Construction<T> {
     pub fn base_distances_flat(&self, lambda: T, bits: &[bool], upto: usize, flat: &[usize]) -> Vec<T> {
         let mut d = Vec::with_capacity(upto + 1);
         let tol = tolerance::FEASIBLE * self.scale;
-        if let Ok(pos) = self.realize_steps(lambda, bits, upto, flat, tol, Some(&mut d)) {
+        let mut pos = Vec::new();
+        if self.realize_steps_into(&mut pos, lambda, bits, (upto, upto), flat, tol, Some(&mut d)).is_ok() {
             d.push(self.base_distance(&pos, upto));
         }
         d
@@ -614,24 +670,25 @@ impl<T: Real> Construction<T> {
         distances: Option<&mut Vec<T>>,
     ) -> Result<Vec<P2<T>>, Unrealizable> {
         let mut pos = Vec::new();
-        self.realize_steps_into(&mut pos, lambda, bits, upto, flat, tol, distances).map(|()| pos)
+        self.realize_steps_into(&mut pos, lambda, bits, (upto, usize::MAX), flat, tol, distances).map(|()| pos)
     }
 
-    /// [`Self::realize_steps`] into `pos`, which it clears first.
+    /// [`Self::realize_steps`] into `pos`, which it clears first, placing
+    /// only the joints steps up to `reach` read ([`Self::place_step`]).
     #[allow(clippy::too_many_arguments)]
     fn realize_steps_into(
         &self,
         pos: &mut Vec<P2<T>>,
         lambda: T,
         bits: &[bool],
-        upto: usize,
+        (upto, reach): (usize, usize),
         flat: &[usize],
         tol: f64,
         mut distances: Option<&mut Vec<T>>,
     ) -> Result<(), Unrealizable> {
         self.start_into(pos, lambda);
         for (k, &plus) in bits.iter().enumerate().take(upto.min(self.steps.len())) {
-            let (dk, placed) = self.place_step(pos, k, plus, flat.contains(&k), tol);
+            let (dk, placed) = self.place_step(pos, k, (plus, flat.contains(&k)), tol, reach);
             if let Some(d) = distances.as_deref_mut() {
                 d.push(dk);
             }
@@ -660,29 +717,46 @@ impl<T: Real> Construction<T> {
     /// distance d_k, and its vertex and members placed in `pos` (`plus` its
     /// orientation, `flat` placed exactly flat, slack down to `-tol` clamped
     /// to flat), or why it cannot be (then `pos` is unchanged).
+    ///
+    /// Only the joints some step up to `reach` reads (as its u or w) are
+    /// placed: a realization that measures base distances up to step `reach`
+    /// skips the apex (a division and a square root) of a step whose joints
+    /// no later step reads, and the members no later step reads; such a step
+    /// is still checked to close. `usize::MAX` places every joint.
     pub fn place_step(
         &self,
         pos: &mut [P2<T>],
         k: usize,
-        plus: bool,
-        flat: bool,
+        (plus, flat): (bool, bool),
         tol: f64,
+        reach: usize,
     ) -> (T, Result<(), Unrealizable>) {
         let s = &self.steps[k];
         // One base vector and length per step: recorded, then built on.
         let e = sub(pos[s.w], pos[s.u]);
         let dk = norm(e);
+        let why = |e: Option<f64>| match e {
+            Some(slack) => Unrealizable::Infeasible { step: k, slack },
+            None => Unrealizable::Degenerate { step: k },
+        };
+        if s.first_reads.apex > reach {
+            return (dk, closing(dk, s.sum_diff, tol).map(|_| ()).map_err(why));
+        }
         let v = match apex_flat(pos[s.u], e, dk, s.sum_diff, plus, tol, flat) {
             Ok(v) => v,
-            Err(Some(slack)) => return (dk, Err(Unrealizable::Infeasible { step: k, slack })),
-            Err(None) => return (dk, Err(Unrealizable::Degenerate { step: k })),
+            Err(e) => return (dk, Err(why(e))),
         };
         pos[s.vertex] = v;
+        // Every member read by then (the usual case): no test per member.
+        let every = s.first_reads.latest_member <= reach;
+        let mut reads = s.first_reads.members.iter();
         for (pivot, list) in [(s.u, &s.members_u), (s.w, &s.members_w)] {
             let p = pos[pivot];
             let e = sub(v, p);
             for m in list {
-                pos[m.joint] = [p[0] + m.alpha * e[0] - m.beta * e[1], p[1] + m.alpha * e[1] + m.beta * e[0]];
+                if every || reads.next().is_none_or(|&read| read <= reach) {
+                    pos[m.joint] = [p[0] + m.alpha * e[0] - m.beta * e[1], p[1] + m.alpha * e[1] + m.beta * e[0]];
+                }
             }
         }
         (dk, Ok(()))

@@ -73,8 +73,7 @@ pub fn base_distance_jet<T: Real>(
     k: usize,
     lambda: T,
 ) -> Option<Jet<T>> {
-    jet.realize_prefix_into(pos, Jet::variable(lambda), bits, k).ok()?;
-    let d = jet.base_distance(pos, k);
+    let d = jet.prefix_distance_into(pos, Jet::variable(lambda), bits, k).ok()?;
     d.v.to_f64().is_finite().then_some(d)
 }
 
