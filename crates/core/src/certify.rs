@@ -97,29 +97,34 @@ pub struct Prefixes {
 /// two parts) and its flat steps (bit i for step i).
 type PlaceKey = (u64, u64, u128);
 
-/// The realized prefixes of one arithmetic, by place.
+/// The realized prefixes of one arithmetic, by place. Every place has a
+/// slot of the same size in two shared blocks (no allocation per place).
 #[derive(Debug)]
 struct Kept<T> {
-    places: IntMap<PlaceKey, Realized<T>>,
+    places: IntMap<PlaceKey, Realized>,
+    /// Each slot: the positions after 0, 1, …, `steps` steps, one block of joints each.
+    levels: Vec<P2<T>>,
+    /// Each slot: d_i of each step placed.
+    distances: Vec<T>,
     /// The last answer's distances (reused: no allocation per question).
     view: Vec<T>,
 }
 
 impl<T> Default for Kept<T> {
     fn default() -> Self {
-        Kept { places: IntMap::default(), view: Vec::new() }
+        Kept { places: IntMap::default(), levels: Vec::new(), distances: Vec::new(), view: Vec::new() }
     }
 }
 
 /// One place's realized prefix.
 #[derive(Debug)]
-struct Realized<T> {
-    /// The orientation bits of the steps placed.
-    bits: Vec<bool>,
-    /// The positions after 0, 1, …, `bits.len()` steps, one block of joints each.
-    levels: Vec<P2<T>>,
-    /// d_i of each step placed.
-    distances: Vec<T>,
+struct Realized {
+    /// Its slot in [`Kept`]'s blocks.
+    slot: usize,
+    /// The steps placed.
+    placed: usize,
+    /// Their orientation bits (bit i for step i).
+    bits: u128,
 }
 
 /// A place's λ as two words (see [`PlaceKey`]).
@@ -167,42 +172,44 @@ impl<T: Real + PlaceBits> Kept<T> {
         let key = (hi, lo, flat);
         if self.places.len() >= tolerance::PREFIX_PLACES && !self.places.contains_key(&key) {
             self.places.clear();
+            self.levels.clear();
+            self.distances.clear();
         }
         let n = con.n_joints;
-        let place = self.places.entry(key).or_insert_with(|| {
-            // Room for every step the place may be asked about: no regrowth per step.
-            let steps = con.steps.len().min(128);
-            let mut levels = Vec::with_capacity((steps + 1) * n);
-            con.start_into(&mut levels, lambda);
-            Realized { bits: Vec::with_capacity(steps), levels, distances: Vec::with_capacity(steps) }
-        });
-        let common = place.bits.iter().zip(&bits[..upto]).take_while(|(a, b)| a == b).count();
-        if common < upto {
-            place.bits.truncate(common);
-            place.levels.truncate((common + 1) * n);
-            place.distances.truncate(common);
+        // Room for every step the place may be asked about.
+        let steps = con.steps.len().min(128);
+        let next = self.places.len();
+        let place = self.places.entry(key).or_insert(Realized { slot: next, placed: 0, bits: 0 });
+        if place.slot == next {
+            let zero = T::zero();
+            self.levels.resize((next + 1) * (steps + 1) * n, [zero, zero]);
+            self.levels[next * (steps + 1) * n + con.base[1]] = [lambda, zero];
+            self.distances.resize((next + 1) * steps, zero);
         }
+        let levels = &mut self.levels[place.slot * (steps + 1) * n..(place.slot + 1) * (steps + 1) * n];
+        let distances = &mut self.distances[place.slot * steps..(place.slot + 1) * steps];
+        let asked = bits[..upto].iter().enumerate().fold(0u128, |a, (i, &b)| a | (u128::from(b) << i));
+        let common = ((place.bits ^ asked).trailing_zeros() as usize).min(place.placed).min(upto);
+        place.placed = common;
         let tol = tolerance::FEASIBLE * con.scale;
-        while place.bits.len() < upto {
-            let k = place.bits.len();
-            place.levels.extend_from_within(k * n..(k + 1) * n);
-            // Later questions at this place build on these levels: place what any step reads.
-            let reach = con.steps.len();
-            let (dk, placed) =
-                con.place_step(&mut place.levels[(k + 1) * n..], k, (bits[k], flat >> k & 1 == 1), tol, reach);
+        // Later questions at this place build on these levels: place what any step reads.
+        let reach = con.steps.len();
+        self.view.clear();
+        while place.placed < upto {
+            let k = place.placed;
+            levels.copy_within(k * n..(k + 1) * n, (k + 1) * n);
+            let (dk, placed) = con.place_step(&mut levels[(k + 1) * n..(k + 2) * n], k, (bits[k], flat >> k & 1 == 1), tol, reach);
             if placed.is_err() {
-                place.levels.truncate((k + 1) * n);
-                self.view.clear();
-                self.view.extend_from_slice(&place.distances);
+                self.view.extend_from_slice(&distances[..k]);
                 self.view.push(dk);
                 return &self.view;
             }
-            place.distances.push(dk);
-            place.bits.push(bits[k]);
+            distances[k] = dk;
+            place.bits = place.bits & !(1 << k) | u128::from(bits[k]) << k;
+            place.placed += 1;
         }
-        self.view.clear();
-        self.view.extend_from_slice(&place.distances[..upto]);
-        self.view.push(con.base_distance(&place.levels[upto * n..(upto + 1) * n], upto));
+        self.view.extend_from_slice(&distances[..upto]);
+        self.view.push(con.base_distance(&levels[upto * n..(upto + 1) * n], upto));
         &self.view
     }
 }
