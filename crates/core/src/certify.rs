@@ -98,14 +98,15 @@ pub struct Prefixes {
 type PlaceKey = (u64, u64, u128);
 
 /// The realized prefixes of one arithmetic, by place. Every place has a
-/// slot of the same size in two shared blocks (no allocation per place).
+/// slot of the same size in blocks of [`SLOTS_PER_BLOCK`] slots, allocated
+/// once each (no allocation per place, and no block ever moves).
 #[derive(Debug)]
 struct Kept<T> {
     places: IntMap<PlaceKey, Realized>,
     /// Each slot: the positions after 0, 1, …, `steps` steps, one block of joints each.
-    levels: Vec<P2<T>>,
+    levels: Vec<Vec<P2<T>>>,
     /// Each slot: d_i of each step placed.
-    distances: Vec<T>,
+    distances: Vec<Vec<T>>,
     /// The last answer's distances (reused: no allocation per question).
     view: Vec<T>,
 }
@@ -115,6 +116,9 @@ impl<T> Default for Kept<T> {
         Kept { places: IntMap::default(), levels: Vec::new(), distances: Vec::new(), view: Vec::new() }
     }
 }
+
+/// Slots per block of [`Kept`].
+const SLOTS_PER_BLOCK: usize = 32;
 
 /// One place's realized prefix.
 #[derive(Debug)]
@@ -180,14 +184,20 @@ impl<T: Real + PlaceBits> Kept<T> {
         let steps = con.steps.len().min(128);
         let next = self.places.len();
         let place = self.places.entry(key).or_insert(Realized { slot: next, placed: 0, bits: 0 });
+        let (block, at) = (place.slot / SLOTS_PER_BLOCK, place.slot % SLOTS_PER_BLOCK);
+        let size = (steps + 1) * n;
         if place.slot == next {
+            if block == self.levels.len() {
+                self.levels.push(Vec::with_capacity(SLOTS_PER_BLOCK * size));
+                self.distances.push(Vec::with_capacity(SLOTS_PER_BLOCK * steps));
+            }
             let zero = T::zero();
-            self.levels.resize((next + 1) * (steps + 1) * n, [zero, zero]);
-            self.levels[next * (steps + 1) * n + con.base[1]] = [lambda, zero];
-            self.distances.resize((next + 1) * steps, zero);
+            self.levels[block].resize((at + 1) * size, [zero, zero]);
+            self.levels[block][at * size + con.base[1]] = [lambda, zero];
+            self.distances[block].resize((at + 1) * steps, zero);
         }
-        let levels = &mut self.levels[place.slot * (steps + 1) * n..(place.slot + 1) * (steps + 1) * n];
-        let distances = &mut self.distances[place.slot * steps..(place.slot + 1) * steps];
+        let levels = &mut self.levels[block][at * size..(at + 1) * size];
+        let distances = &mut self.distances[block][at * steps..(at + 1) * steps];
         let asked = bits[..upto].iter().enumerate().fold(0u128, |a, (i, &b)| a | (u128::from(b) << i));
         let common = ((place.bits ^ asked).trailing_zeros() as usize).min(place.placed).min(upto);
         place.placed = common;
@@ -198,7 +208,8 @@ impl<T: Real + PlaceBits> Kept<T> {
         while place.placed < upto {
             let k = place.placed;
             levels.copy_within(k * n..(k + 1) * n, (k + 1) * n);
-            let (dk, placed) = con.place_step(&mut levels[(k + 1) * n..(k + 2) * n], k, (bits[k], flat >> k & 1 == 1), tol, reach);
+            let (dk, placed) =
+                con.place_step(&mut levels[(k + 1) * n..(k + 2) * n], k, (bits[k], flat >> k & 1 == 1), tol, reach);
             if placed.is_err() {
                 self.view.extend_from_slice(&distances[..k]);
                 self.view.push(dk);
