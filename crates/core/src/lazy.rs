@@ -38,7 +38,7 @@ use std::cell::{Cell, RefCell};
 
 use crate::roots::{
     Endpoint, EndpointIds, Extremum, base_distance_jet, between, cmp, cosine_sample, newton, newton_from,
-    newton_seeded, side_signs,
+    newton_from_end, newton_seeded, side_signs,
 };
 use crate::tolerance;
 
@@ -700,7 +700,7 @@ impl<'a, T: Real> Walker<'a, T> {
             let kind = self.kinds(k)[i];
             let s1 = self.slack(k, kind, right.d[k], dir);
             let s0 = self.slack(k, kind, near.d[k], dir);
-            let root = self.crossing(Along { bits, k, kind, dir }, (near.lambda, s0.v), (right.lambda, s1));
+            let root = self.crossing(Along { bits, k, kind, dir }, (near.lambda, s0), (right.lambda, s1));
             events = vec![Event { step: k, kind }];
             shrunk = Some(if root == right.lambda { right.clone() } else { self.probe(bits, root) });
             ends_at = Some((k, i));
@@ -781,10 +781,10 @@ impl<'a, T: Real> Walker<'a, T> {
     /// The root of a slack positive at a and negative at b: b itself when
     /// it is the end the walk approaches and this step is flat there
     /// ([`Self::known_end`]), else located by [`Self::locate`].
-    fn crossing(&self, along: Along<T>, (a, va): (T, T), (b, s1): (T, Jet<T>)) -> T {
+    fn crossing(&self, along: Along<T>, (a, s0): (T, Jet<T>), (b, s1): (T, Jet<T>)) -> T {
         let event = Event { step: along.k, kind: along.kind };
         let known = self.known_end.as_ref().is_some_and(|(at, events)| *at == b && events.contains(&event));
-        if known { b } else { self.locate(along, (a, va), (b, s1)) }
+        if known { b } else { self.locate(along, (a, s0), (b, s1)) }
     }
 
     /// The first λ in (a, b] (walking in `dir`) where step k's slack for
@@ -801,7 +801,7 @@ impl<'a, T: Real> Walker<'a, T> {
         } else if s1.v == zero {
             return Some(b);
         } else if s1.v < zero {
-            return Some(self.crossing(along, (a, s0.v), (b, s1)));
+            return Some(self.crossing(along, (a, s0), (b, s1)));
         }
         let clamp = |s: Jet<T>| Jet { v: if s.v < zero { zero } else { s.v }, ..s };
         let (s0, s1) = (clamp(s0), clamp(s1));
@@ -852,7 +852,7 @@ impl<'a, T: Real> Walker<'a, T> {
                     return self.through_minimum(along, a, b);
                 }
                 if sc.v <= T::zero() {
-                    return Some(self.locate(along, (a, s0.v), (c, sc)));
+                    return Some(self.locate(along, (a, s0), (c, sc)));
                 }
                 self.search(along, (a, s0), (c, sc), depth + 1)
                     .or_else(|| self.search(along, (c, sc), (b, s1), depth + 1))
@@ -884,23 +884,53 @@ impl<'a, T: Real> Walker<'a, T> {
                 }
                 None
             }
-            Extremum::Below => Some(self.locate(along, (a, sa.v), (m, sm))),
+            Extremum::Below => Some(self.locate(along, (a, sa), (m, sm))),
         }
     }
 
-    /// The root of step k's slack between a (slack `va` > 0) and b (≤ 0),
-    /// where the slack's jet `sb` (slope along the walk) is already known:
-    /// the first Newton step is taken from b (often a root found already, or
-    /// next to one), at no cost. Without a slope at b (b is an end where an
-    /// earlier step is flat, and the slack behaves like va′ + c√|b − λ|
-    /// there) the first evaluation is at that model's root.
-    fn locate(&self, along: Along<T>, (a, va): (T, T), (b, sb): (T, Jet<T>)) -> T {
+    /// The root of step k's slack between a (jet `sa`, value > 0) and b
+    /// (≤ 0), where both jets (slopes along the walk) are already known:
+    /// Newton starts at the root of the quadratic model at b (about the gap
+    /// cubed from the true root). Without a slope at b (b is an end where
+    /// an earlier step is flat, and the slack goes as √|λ − b| there)
+    /// Newton runs in u = √|λ − b| ([`newton_from_end`]) from the root of
+    /// the quadratic in u through b's value and a's value and slope.
+    fn locate(&self, along: Along<T>, (a, sa): (T, Jet<T>), (b, sb): (T, Jet<T>)) -> T {
         let f = |x| self.slack_slope_at(along, x).map(|(v, d)| (v, d * along.dir));
         let run = if finite(&sb) {
-            newton_seeded(a, b, Some((b, sb.v, sb.d * along.dir)), f)
+            // The quadratic model at b (slope in λ) puts its root about the
+            // gap cubed from the true one: Newton starts there, a step
+            // ahead of Newton from b.
+            let (v, d) = (sb.v, sb.d * along.dir);
+            let disc = d * d - T::from_f64(2.0) * sb.s * v;
+            let quadratic = (disc >= T::zero()).then(|| {
+                let root = disc.sqrt();
+                let q = if d >= T::zero() { d + root } else { d - root };
+                b - T::from_f64(2.0) * v / q
+            });
+            match quadratic.filter(|&x| between(x, a, b)) {
+                Some(x) => newton_from(a, b, x, f),
+                None => newton_seeded(a, b, Some((b, sb.v, sb.d * along.dir)), f),
+            }
         } else {
-            let r = sb.v / (va - sb.v);
-            newton_from(a, b, b + (a - b) * r * r, f)
+            // In u = √|λ − b| the slack is smooth: h(u) = h0 + p·u + q·u²
+            // through h(0) = sb.v and a's value and slope (dλ/du = 2u·sign).
+            let (h0, ha) = (sb.v, sa.v);
+            let (two, span) = (T::from_f64(2.0), a - b);
+            let width = span.abs().sqrt();
+            let sign = if span > T::zero() { T::from_f64(1.0) } else { T::from_f64(-1.0) };
+            let m = sa.d * along.dir * two * sign * width;
+            let q = (h0 + m * width - ha) / (width * width);
+            let p = m - two * q * width;
+            let disc = p * p - T::from_f64(4.0) * q * h0;
+            let quadratic = (disc >= T::zero() && finite(&sa)).then(|| {
+                let root = disc.sqrt();
+                -two * h0 / (if p >= T::zero() { p + root } else { p - root })
+            });
+            // Else the line through the two values.
+            let linear = width * h0 / (h0 - ha);
+            let u = quadratic.filter(|&u| u > T::zero() && u < width).unwrap_or(linear);
+            newton_from_end(a, b, b + sign * u * u, f)
         };
         self.roots.set(self.roots.get() + 1);
         self.newton_evaluations.set(self.newton_evaluations.get() + run.evaluations);

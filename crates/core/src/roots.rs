@@ -196,14 +196,50 @@ pub struct NewtonRun<T> {
 /// bracket's evaluated ends is tried (one more evaluation), and the point of
 /// least |g| seen is returned.
 pub fn newton_seeded<T: Real>(a: T, b: T, seed: Option<(T, T, T)>, f: impl Fn(T) -> Option<(T, T)>) -> NewtonRun<T> {
-    newton_run(a, b, seed, None, f)
+    newton_run(a, b, seed, None, Chart::Line, f)
 }
 
 /// [`newton`] with its first evaluation at `start` (strictly inside the
 /// bracket; else at the midpoint): a guess from what is known of g without
 /// its derivative.
 pub fn newton_from<T: Real>(a: T, b: T, start: T, f: impl Fn(T) -> Option<(T, T)>) -> NewtonRun<T> {
-    newton_run(a, b, None, Some(start).filter(|&s| between(s, a, b)), f)
+    newton_run(a, b, None, Some(start).filter(|&s| between(s, a, b)), Chart::Line, f)
+}
+
+/// [`newton_from`] where g goes as √|λ − b| next to b (b is where an earlier
+/// step is flat, and its vertex rises as that square root): there Newton in
+/// λ crawls, so it runs in u = √|λ − b|, where g is smooth, and stops as
+/// [`newton_seeded`] does, by the step's length in λ.
+pub fn newton_from_end<T: Real>(a: T, b: T, start: T, f: impl Fn(T) -> Option<(T, T)>) -> NewtonRun<T> {
+    let sign = if a > b { T::from_f64(1.0) } else { T::from_f64(-1.0) };
+    let (width, u) = ((a - b).abs().sqrt(), (start - b).abs().sqrt());
+    let start = Some(u).filter(|&u| between(u, width, T::zero()));
+    newton_run(width, T::zero(), None, start, Chart::Root { end: b, sign }, f)
+}
+
+/// The coordinate Newton runs in.
+#[derive(Clone, Copy, Debug)]
+enum Chart<T> {
+    /// λ itself.
+    Line,
+    /// u ≥ 0 with λ = end + sign·u².
+    Root { end: T, sign: T },
+}
+
+impl<T: Real> Chart<T> {
+    fn lambda(self, x: T) -> T {
+        match self {
+            Chart::Line => x,
+            Chart::Root { end, sign } => end + sign * x * x,
+        }
+    }
+    /// dλ/dx.
+    fn slope(self, x: T) -> T {
+        match self {
+            Chart::Line => T::from_f64(1.0),
+            Chart::Root { sign, .. } => T::from_f64(2.0) * sign * x,
+        }
+    }
 }
 
 fn newton_run<T: Real>(
@@ -211,15 +247,21 @@ fn newton_run<T: Real>(
     b: T,
     seed: Option<(T, T, T)>,
     start: Option<T>,
+    chart: Chart<T>,
     f: impl Fn(T) -> Option<(T, T)>,
 ) -> NewtonRun<T> {
+    // g and dg/dx at x (f gives them in λ).
+    let f = |x: T| f(chart.lambda(x)).map(|(g, dg)| (g, dg * chart.slope(x)));
+    let done = |root: T, evaluations: usize| NewtonRun { root: chart.lambda(root), evaluations };
     let (mut pos, mut neg) = (a, b);
     let two = T::from_f64(2.0);
     let mut x = start.unwrap_or((a + b) / two);
     let mut best = (x, T::from_f64(f64::INFINITY));
     let mut evaluations = 0;
     let converged = T::from_f64(tolerance::NEWTON_CONVERGED_ULPS * T::UNIT_ROUNDOFF);
-    let floor = T::from_f64(tolerance::NEWTON_FLOOR) * (if a.abs() > b.abs() { a.abs() } else { b.abs() });
+    let (la, lb) = (chart.lambda(a).abs(), chart.lambda(b).abs());
+    let floor = T::from_f64(tolerance::NEWTON_FLOOR) * (if la > lb { la } else { lb });
+    // Steps and their lengths are measured in λ.
     let mut last_step: Option<T> = None;
     // g at the bracket's ends, once evaluated there.
     let (mut g_pos, mut g_neg): (Option<T>, Option<T>) = (None, None);
@@ -248,7 +290,7 @@ fn newton_run<T: Real>(
             best = (x, g.abs());
         }
         if g == T::zero() {
-            return NewtonRun { root: x, evaluations };
+            return done(x, evaluations);
         }
         if g > T::zero() {
             pos = x;
@@ -259,8 +301,9 @@ fn newton_run<T: Real>(
         }
         let step = g / dg;
         let next = x - step;
+        let length = step.abs() * chart.slope(x).abs();
         // A NaN step is no shorter either.
-        let shrinks = |l: T| step.abs().partial_cmp(&l) == Some(std::cmp::Ordering::Less);
+        let shrinks = |l: T| length.partial_cmp(&l) == Some(std::cmp::Ordering::Less);
         if last_step.is_some_and(|l: T| !shrinks(l) && l <= floor) {
             let secant = g_pos.zip(g_neg).map(|(gp, gn)| pos - gp * (neg - pos) / (gn - gp));
             if let Some(s) = secant.filter(|&s| between(s, pos, neg)) {
@@ -268,26 +311,27 @@ fn newton_run<T: Real>(
                 if let Some((g, _)) = f(s)
                     && g.abs() <= best.1
                 {
-                    return NewtonRun { root: s, evaluations };
+                    return done(s, evaluations);
                 }
             }
-            return NewtonRun { root: best.0, evaluations };
+            return done(best.0, evaluations);
         }
         if between(next, pos, neg) && step.to_f64().is_finite() {
-            if step.abs() <= converged * x.abs() {
-                return NewtonRun { root: next, evaluations };
+            let here = chart.lambda(next).abs();
+            if length <= converged * chart.lambda(x).abs() {
+                return done(next, evaluations);
             }
             // Converging quadratically (this step under a quarter of the
             // last), the next would be about step³/last²: below rounding, so
             // this step lands as close as f64 resolves, with no evaluation.
             let quarter = T::from_f64(0.25);
             if let Some(l) = last_step
-                && step.abs() <= quarter * l
-                && step.abs() * (step / l) * (step / l) <= converged * next.abs()
+                && length <= quarter * l
+                && length * (length / l) * (length / l) <= converged * here
             {
-                return NewtonRun { root: next, evaluations };
+                return done(next, evaluations);
             }
-            last_step = Some(step.abs());
+            last_step = Some(length);
             x = next;
         } else {
             last_step = None;
@@ -298,7 +342,7 @@ fn newton_run<T: Real>(
             x = mid;
         }
     }
-    NewtonRun { root: best.0, evaluations }
+    done(best.0, evaluations)
 }
 
 #[cfg(test)]
@@ -317,6 +361,28 @@ mod tests {
         // From the midpoint 1.5: quadratic convergence, a handful of steps.
         assert!((3..=6).contains(&run.evaluations), "{run:?}");
         assert_eq!(newton(1.0, 2.0, g), run.root);
+    }
+
+    /// g(λ) = u − 1/20 + 3u²/10 with u = √(1 − λ): a square root at the
+    /// end λ = 1, as a later step's slack next to an earlier step's flat
+    /// point, with its root near that end (u ≈ 0.049 of the bracket's 1).
+    #[test]
+    fn newton_runs_in_the_square_root_next_to_an_end() {
+        let g = |x: f64| {
+            let u = (1.0 - x).sqrt();
+            Some((u - 0.05 + 0.3 * u * u, -0.5 / u - 0.3))
+        };
+        let u = ((1.0f64 + 0.06).sqrt() - 1.0) / 0.6;
+        let root = 1.0 - u * u;
+        // From the root of the line through the ends' values in u.
+        let start = 1.0 - (0.05f64 / 1.3).powi(2);
+        let in_u = newton_from_end(0.0, 1.0, start, g);
+        let in_lambda = newton_from(0.0, 1.0, start, g);
+        for run in [in_u, in_lambda] {
+            assert!((run.root - root).abs() <= 4.0 * f64::EPSILON, "{run:?} vs {root}");
+        }
+        assert!(in_u.evaluations < in_lambda.evaluations, "{in_u:?} vs {in_lambda:?}");
+        assert!(in_u.evaluations <= 3, "{in_u:?}");
     }
 
     #[test]
