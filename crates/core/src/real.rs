@@ -64,8 +64,18 @@ pub trait Real:
     /// √(x² + y²) without squaring a length: scaled by the larger of |x|, |y|
     /// so that scenes near 1e±300 neither overflow nor underflow; squared
     /// directly within [`Self::HYPOT_SQUARES`] (two divisions fewer).
+    ///
+    /// A component that is exactly zero (every part of it: a ball of radius
+    /// 0, a jet without slope or curvature) leaves the other's magnitude,
+    /// exactly: a base distance on the base is λ itself.
     fn hypot(x: Self, y: Self) -> Self {
         let (ax, ay) = (x.abs(), y.abs());
+        if y == Self::zero() {
+            return ax;
+        }
+        if x == Self::zero() {
+            return ay;
+        }
         let m = if ax > ay { ax } else { ay };
         if m.partial_cmp(&Self::zero()) != Some(std::cmp::Ordering::Greater) {
             return m;
@@ -732,6 +742,22 @@ mod tests {
             assert_eq!((j.v, j.d), (s.v, s.d));
             assert!(s.d.to_f64() != 0.0);
         }
+    }
+
+    /// An exactly zero component leaves the other's magnitude, exactly;
+    /// a zero that is only a midpoint (radius > 0) or a value (with a
+    /// slope) is squared in as before.
+    #[test]
+    fn hypot_with_an_exact_zero_is_the_magnitude() {
+        let x = Ball::<f64> { m: -3.0, r: 1e-15 };
+        assert_eq!(Real::hypot(x, Ball::exact(0.0)), Ball { m: 3.0, r: 1e-15 });
+        assert_eq!(Real::hypot(Ball::exact(0.0), x), Ball { m: 3.0, r: 1e-15 });
+        let near = Real::hypot(x, Ball { m: 0.0, r: 1e-15 });
+        assert!(near.r > 1e-15 && near.m == 3.0, "{near:?}");
+        let lambda = Jet::variable(2.5f64);
+        assert_eq!(Real::hypot(-lambda, Jet::constant(0.0)), Jet { v: 2.5, d: 1.0, s: 0.0 });
+        let moving = Real::hypot(lambda, Jet::variable(0.0));
+        assert!(moving.s > 0.0, "a zero with a slope curves the distance: {moving:?}");
     }
 
     #[test]
