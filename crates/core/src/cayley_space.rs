@@ -18,13 +18,13 @@
 //!
 //! Generic over the scalar type so that a double-double run is the reference.
 
-use std::cell::RefCell;
+use std::cell::{OnceCell, RefCell};
 
 use crate::certify::{At as Place, Certifier, Closes, Prefixes, Sign};
 use crate::complexity::Complexity;
 use crate::decompose::Decomposition;
 use crate::invert::Inverter;
-use crate::real::{Jet, Real};
+use crate::real::{Jet, Real, Slope};
 use crate::realize::{Construction, Event, Kind, P2, RealizationType};
 use crate::roots::{Endpoint, EndpointIds, Extremum, base_distance_jet, bisect, cmp, cosine_sample, side_signs, sign};
 use crate::tolerance;
@@ -193,6 +193,10 @@ struct Sweep<'a, T: Real> {
     prefixes: Prefixes,
     /// Joint positions of the last jet realization (reused).
     positions: RefCell<Vec<P2<Jet<T>>>>,
+    /// `jet` without curvatures, for the candidates' slopes (built on first
+    /// use: steps on the base read their jets, cheap there).
+    slopes: OnceCell<Construction<Slope<T>>>,
+    slope_positions: RefCell<Vec<P2<Slope<T>>>>,
     /// Indices into `out` of the isolated end points (`Piece::touch`).
     touches: Vec<usize>,
 }
@@ -240,6 +244,8 @@ pub fn cayley_space<T: Real>(
         out: Vec::new(),
         prefixes: Prefixes::default(),
         positions: RefCell::new(Vec::new()),
+        slopes: OnceCell::new(),
+        slope_positions: RefCell::new(Vec::new()),
         touches: Vec::new(),
     };
     // Start from (0, sentinel): every root of the first step lies below the sentinel.
@@ -291,6 +297,17 @@ impl<T: Real> Sweep<'_, T> {
         base_distance_jet(&self.jet, &mut self.positions.borrow_mut(), bits, k, lambda)
     }
 
+    /// [`Self::distance`]'s value and slope alone (the same numbers).
+    fn slope_distance(&self, k: usize, bits: &[bool], lambda: T) -> Option<Slope<T>> {
+        if self.con.on_base(k) {
+            return self.distance(k, bits, lambda).map(|d| Slope { v: d.v, d: d.d });
+        }
+        let slopes = self.slopes.get_or_init(|| self.jet.map(|j| Slope { v: j.v, d: j.d }));
+        let mut pos = self.slope_positions.borrow_mut();
+        let d = slopes.prefix_distance_into(&mut pos, Slope::variable(lambda), bits, k).ok()?;
+        d.v.to_f64().is_finite().then_some(d)
+    }
+
     /// Slack of step k as a jet (value, slope, curvature).
     fn slack(&self, k: usize, kind: Kind, d: Jet<T>) -> Jet<T> {
         let s = &self.con.steps[k];
@@ -329,17 +346,21 @@ impl<T: Real> Sweep<'_, T> {
                 .collect();
             let flat_ends = at_ends.into_iter().filter(|e| e.2 == Sign::Zero).map(|(x, at, _)| (x, at));
             for (lambda, at) in candidates.into_iter().map(|x| (x, At::Inside)).chain(flat_ends) {
-                let Some(d) = self.distance(k, bits, lambda) else { continue };
+                // Value and slope (the jet's, bit for bit); the curvature
+                // only at a tangency.
+                let Some(d) = self.slope_distance(k, bits, lambda) else { continue };
                 // Every closed-form candidate is kept as a boundary, even one of
                 // another type's: the proven signs on the gaps beside it decide
                 // (a boundary with the same sign on both sides and a nonzero
                 // slack is dropped in `refine`). Testing candidates by value
                 // would reject true roots next to an end, where d_k′ is huge.
-                let g = d - Jet::constant(t);
-                if !(g.d.to_f64().is_finite() || at != At::Inside) {
+                if !(d.d.to_f64().is_finite() || at != At::Inside) {
                     continue;
                 }
-                let (left, right) = side_signs(self.slack(k, kind, d));
+                let st = &self.con.steps[k];
+                let slope = kind.slack_value(Slope::constant(st.r1), Slope::constant(st.r2), d).d;
+                let curvature = || self.distance(k, bits, lambda).map_or(T::zero(), |d| self.slack(k, kind, d).s);
+                let (left, right) = side_signs(slope, curvature);
                 roots.push(Root { lambda, kind, at, left, right });
             }
         }

@@ -836,7 +836,7 @@ impl<'a, T: Real> Walker<'a, T> {
         if s.v < -self.root_value && !entering {
             return false;
         }
-        if self.rounding_at_tangency(s) { s.s > zero } else { side_signs(s).1 > 0 }
+        if self.rounding_at_tangency(s) { s.s > zero } else { side_signs(s.d, || s.s).1 > 0 }
     }
 
     /// Roots of a slack positive at both ends of [a, b], from its jets.

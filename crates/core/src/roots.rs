@@ -99,15 +99,15 @@ pub fn between<T: Real>(x: T, a: T, b: T) -> bool {
 }
 
 /// Signs of a slack just left and right of a root (−1, 0 or +1), read
-/// from its jet there: from its slope, or at a tangency (slope below
-/// [`tolerance::tangent_slope`] for `T`) from its curvature, the same on
-/// both sides.
-pub fn side_signs<T: Real>(slack: Jet<T>) -> (i8, i8) {
+/// from its slope there, or at a tangency (slope below
+/// [`tolerance::tangent_slope`] for `T`) from its curvature (asked for only
+/// then), the same on both sides.
+pub fn side_signs<T: Real>(slope: T, curvature: impl FnOnce() -> T) -> (i8, i8) {
     let slope_tol = T::from_f64(tolerance::tangent_slope(T::UNIT_ROUNDOFF));
-    if slack.d.abs() > slope_tol {
-        (-sign(slack.d), sign(slack.d))
+    if slope.abs() > slope_tol {
+        (-sign(slope), sign(slope))
     } else {
-        let c = sign(slack.s);
+        let c = sign(curvature());
         (c, c)
     }
 }
