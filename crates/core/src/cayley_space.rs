@@ -259,6 +259,13 @@ pub fn cayley_space<T: Real>(
     let mut bits = Vec::with_capacity(n);
     sweep.descend(0, &mut bits, &[Piece { lo, hi, touch: false }]);
     let mut intervals = drop_repeated_touches(sweep.out, &sweep.touches);
+    // The sweep emits types in descending order (each bit `true` first),
+    // each type's intervals in λ order: reversing the types leaves the sort
+    // below a check over sorted input instead of moving the intervals.
+    intervals.reverse();
+    for run in intervals.chunk_by_mut(|a, b| a.ty == b.ty) {
+        run.reverse();
+    }
     intervals.sort_by(|a, b| a.ty.cmp(&b.ty).then(cmp(&a.lower.lambda, &b.lower.lambda)));
     let mut notes = sweep.notes;
     notes.dedup();
