@@ -196,6 +196,7 @@ struct Sweep<'a, T: Real> {
     /// `jet` without curvatures, for the candidates' slopes (built on first
     /// use: steps on the base read their jets, cheap there).
     slopes: OnceCell<Construction<Slope<T>>>,
+    /// Joint positions of the last slope realization (reused).
     slope_positions: RefCell<Vec<P2<Slope<T>>>>,
     /// Indices into `out` of the isolated end points (`Piece::touch`).
     touches: Vec<usize>,
