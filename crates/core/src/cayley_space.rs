@@ -308,9 +308,9 @@ impl<T: Real> Sweep<'_, T> {
     /// [`Self::distance`]'s value and slope alone (the same numbers).
     fn slope_distance(&self, k: usize, bits: &[bool], lambda: T) -> Option<Slope<T>> {
         if self.con.on_base(k) {
-            return self.distance(k, bits, lambda).map(|d| Slope { v: d.v, d: d.d });
+            return self.distance(k, bits, lambda).map(Jet::slope);
         }
-        let slopes = self.slopes.get_or_init(|| self.jet.map(|j| Slope { v: j.v, d: j.d }));
+        let slopes = self.slopes.get_or_init(|| self.jet.map(Jet::slope));
         let mut pos = self.slope_positions.borrow_mut();
         let d = slopes.prefix_distance_into(&mut pos, Slope::variable(lambda), bits, k).ok()?;
         d.v.to_f64().is_finite().then_some(d)

@@ -193,12 +193,12 @@ impl<T: Real + PlaceBits> Kept<T> {
             }
             let zero = T::zero();
             self.levels[block].resize((at + 1) * size, [zero, zero]);
-            self.levels[block][at * size + con.base[1]] = [lambda, zero];
+            con.place_base(&mut self.levels[block][at * size..], lambda);
             self.distances[block].resize((at + 1) * steps, zero);
         }
         let levels = &mut self.levels[block][at * size..(at + 1) * size];
         let distances = &mut self.distances[block][at * steps..(at + 1) * steps];
-        let asked = bits[..upto].iter().enumerate().fold(0u128, |a, (i, &b)| a | (u128::from(b) << i));
+        let asked = prefix_word(bits, upto).expect("upto < 128");
         let common = ((place.bits ^ asked).trailing_zeros() as usize).min(place.placed).min(upto);
         place.placed = common;
         let tol = tolerance::FEASIBLE * con.scale;

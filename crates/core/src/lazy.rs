@@ -38,7 +38,7 @@ use std::cell::{Cell, RefCell};
 
 use crate::roots::{
     Endpoint, EndpointIds, Extremum, base_distance_jet, between, cmp, cosine_sample, newton, newton_from,
-    newton_from_end, newton_seeded, side_signs,
+    newton_from_end, newton_seeded, quadratic_root, side_signs,
 };
 use crate::tolerance;
 
@@ -239,7 +239,7 @@ impl<'a, T: Real> Walker<'a, T> {
             con,
             cert,
             jet,
-            slopes: jet.map(|j| Slope { v: j.v, d: j.d }),
+            slopes: jet.map(Jet::slope),
             options,
             range,
             range_events,
@@ -901,14 +901,8 @@ impl<'a, T: Real> Walker<'a, T> {
             // The quadratic model at b (slope in λ) puts its root about the
             // gap cubed from the true one: Newton starts there, a step
             // ahead of Newton from b.
-            let (v, d) = (sb.v, sb.d * along.dir);
-            let disc = d * d - T::from_f64(2.0) * sb.s * v;
-            let quadratic = (disc >= T::zero()).then(|| {
-                let root = disc.sqrt();
-                let q = if d >= T::zero() { d + root } else { d - root };
-                b - T::from_f64(2.0) * v / q
-            });
-            match quadratic.filter(|&x| between(x, a, b)) {
+            let step = quadratic_root(sb.v, sb.d * along.dir, T::from_f64(0.5) * sb.s);
+            match step.map(|s| b + s).filter(|&x| between(x, a, b)) {
                 Some(x) => newton_from(a, b, x, f),
                 None => newton_seeded(a, b, Some((b, sb.v, sb.d * along.dir)), f),
             }
@@ -922,11 +916,7 @@ impl<'a, T: Real> Walker<'a, T> {
             let m = sa.d * along.dir * two * sign * width;
             let q = (h0 + m * width - ha) / (width * width);
             let p = m - two * q * width;
-            let disc = p * p - T::from_f64(4.0) * q * h0;
-            let quadratic = (disc >= T::zero() && finite(&sa)).then(|| {
-                let root = disc.sqrt();
-                -two * h0 / (if p >= T::zero() { p + root } else { p - root })
-            });
+            let quadratic = quadratic_root(h0, p, q).filter(|_| finite(&sa));
             // Else the line through the two values.
             let linear = width * h0 / (h0 - ha);
             let u = quadratic.filter(|&u| u > T::zero() && u < width).unwrap_or(linear);

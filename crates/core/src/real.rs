@@ -266,6 +266,10 @@ impl<T: Real> Jet<T> {
     pub fn constant(x: T) -> Self {
         Jet { v: x, d: T::zero(), s: T::zero() }
     }
+    /// Its value and slope (the curvature dropped).
+    pub fn slope(self) -> Slope<T> {
+        Slope { v: self.v, d: self.d }
+    }
 }
 
 impl<T: Real> Add for Jet<T> {

@@ -706,11 +706,16 @@ impl<T: Real> Construction<T> {
     }
 
     /// [`Self::start`] in `pos` (cleared first, its allocation reused).
-    pub(crate) fn start_into(&self, pos: &mut Vec<P2<T>>, lambda: T) {
+    fn start_into(&self, pos: &mut Vec<P2<T>>, lambda: T) {
         let zero = T::zero();
         pos.clear();
         pos.resize(self.n_joints, [zero, zero]);
-        pos[self.base[1]] = [lambda, zero];
+        self.place_base(pos, lambda);
+    }
+
+    /// Base joint b at (λ, 0) in a block of joints at the origin.
+    pub(crate) fn place_base(&self, pos: &mut [P2<T>], lambda: T) {
+        pos[self.base[1]] = [lambda, T::zero()];
     }
 
     /// Step `k` on positions where the steps before it are placed: its base

@@ -98,6 +98,17 @@ pub fn between<T: Real>(x: T, a: T, b: T) -> bool {
     (x > a && x < b) || (x > b && x < a)
 }
 
+/// The root nearest zero of c0 + c1·x + c2·x², in the form without
+/// cancellation (−2c0 / (c1 ± √(c1² − 4c2·c0)), the sign of c1); `None`
+/// where the roots are not real.
+pub fn quadratic_root<T: Real>(c0: T, c1: T, c2: T) -> Option<T> {
+    let disc = c1 * c1 - T::from_f64(4.0) * c2 * c0;
+    (disc >= T::zero()).then(|| {
+        let root = disc.sqrt();
+        -T::from_f64(2.0) * c0 / (if c1 >= T::zero() { c1 + root } else { c1 - root })
+    })
+}
+
 /// Signs of a slack just left and right of a root (−1, 0 or +1), read
 /// from its slope there, or at a tangency (slope below
 /// [`tolerance::tangent_slope`] for `T`) from its curvature (asked for only
