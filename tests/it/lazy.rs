@@ -211,3 +211,40 @@ fn report_cli_says_which_analysis_it_did() {
     assert_eq!(full["analysis"], "full");
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// A four-bar whose interval is 1e-12 of its scale wide, [9.999999999999, 10]
+/// on base A–C, drawn at the interval's upper end. Scaled by 1e150 the
+/// drawing's λ (1e151) lies one ulp above the f64 sum of the stretched
+/// step's lengths, where the walk once found no end and split the one
+/// component in two.
+#[test]
+fn a_lazy_start_a_rounding_beyond_the_base_range_walks_the_one_component() {
+    for scale in [1.0, 1e150, 1e-150] {
+        let text = format!(
+            "name = \"narrow\"\nground = [\"A\", \"D\"]\n\
+             bars = [[\"A\", \"B\", {:e}], [\"B\", \"C\", {:e}], [\"C\", \"D\", {:e}], [\"D\", \"A\", {:e}]]\n\
+             [joints]\nA = [0.0, 0.0]\nB = [{:e}, {:e}]\nC = [{:e}, 0.0]\nD = [{:e}, 0.0]\n",
+            4.0 * scale,
+            6.0 * scale,
+            3.0 * scale,
+            12.999999999999 * scale,
+            3.9 * scale,
+            0.5 * scale,
+            10.0 * scale,
+            13.0 * scale,
+        );
+        let scene = caymos::scene::parse_scene(&text, "narrow", "narrow").unwrap();
+        // A–C and B–D, joints numbered as declared.
+        for base in [[0, 2], [1, 3]] {
+            let full = analyse_with(scene.clone(), Some(base), Scope::Full).unwrap().outcome.unwrap();
+            let lazy = analyse_with(scene.clone(), Some(base), Scope::Lazy).unwrap().outcome.unwrap();
+            // On B–D the sketch's drawn λ is out of its type's reach: a small scene then gets the full analysis.
+            assert_eq!(lazy.lazy, base == [0, 2], "scale {scale:e}, base {base:?}");
+            let count = |s: &Solved| (s.space.intervals.len(), s.components.list.len());
+            assert_eq!(count(&full), (4, 1), "scale {scale:e}, base {base:?}");
+            assert_eq!(count(&lazy), count(&full), "scale {scale:e}, base {base:?}");
+            assert!(lazy.drawn_component.is_some(), "scale {scale:e}, base {base:?}");
+            assert!(lazy.space.intervals.iter().all(|iv| !iv.upper.events.is_empty() && !iv.lower.events.is_empty()));
+        }
+    }
+}

@@ -116,6 +116,17 @@ pub fn component_through_counted<T: Real>(
     con.realize(lambda, ty)?;
     let mut walker = Walker::new(con, cert, jet, options);
     walker.count_steps(con.steps.len());
+    // A start realized within rounding beyond an end of the base's range (a
+    // drawing at that end, read at a scale where λ's last bit differs from
+    // the range's) starts at the end: beyond it an on-base step has no
+    // realization, and the walk would find no end there.
+    let lambda = if lambda > walker.range[1] {
+        walker.range[1]
+    } else if lambda < walker.range[0] {
+        walker.range[0]
+    } else {
+        lambda
+    };
     let mut intervals = match walker.isolated_start(ty, lambda) {
         Some(points) => points,
         None => walker.component(ty, lambda),
