@@ -86,6 +86,38 @@ proptest! {
         prop_assert_eq!(&only[..full.len()], &full[..]);
     }
 
+    /// A realization resumed at step m on the positions of another type
+    /// that shares its first m bits (as the lazy walk's probes resume on
+    /// the last type's) measures every d_k bit for bit as a fresh one, and
+    /// fails at the same step; one that failed before m is the other's too.
+    #[test]
+    fn resumed_realizations_measure_as_fresh_ones(seed in any::<u64>(), steps in 1usize..8, tri in 0.0f64..0.6, at in 0.0f64..1.0, type_seed in any::<u64>(), flip in any::<usize>()) {
+        let (_, s) = solve(random_linkage(seed, steps, tri));
+        let con = &s.construction;
+        let Some(&[lo, hi]) = s.union.first() else { return Ok(()) };
+        let lambda = lo + (hi - lo) * at;
+        let n = con.steps.len();
+        let last: Vec<bool> = (0..n).map(|k| type_seed >> (k % 64) & 1 == 1).collect();
+        let m = flip % n;
+        let mut bits = last.clone();
+        bits[m] = !bits[m];
+        // Later bits may differ too: the resumed steps read none of the last type's.
+        for b in bits.iter_mut().skip(m + 1) {
+            *b = flip >> 8 & 1 == 1;
+        }
+        let mut pos = Vec::new();
+        let last_d = con.base_distances_in(&mut pos, lambda, &last);
+        let fresh = con.base_distances(lambda, &bits);
+        if last_d.len() <= m {
+            prop_assert_eq!(&fresh, &last_d);
+            return Ok(());
+        }
+        let mut resumed = last_d[..m].to_vec();
+        con.resume_distances_in(&mut pos, m, &bits, &mut resumed);
+        let as_bits = |d: &[f64]| d.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        prop_assert_eq!(as_bits(&resumed), as_bits(&fresh));
+    }
+
     /// Scaling a scene scales its intervals and keeps their counts.
     #[test]
     fn intervals_scale_with_the_scene(seed in any::<u64>(), steps in 2usize..6, factor in prop::sample::select(vec![1e-3, 1e3])) {

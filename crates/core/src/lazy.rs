@@ -179,6 +179,104 @@ enum End<T> {
     Stuck(T, usize),
 }
 
+/// Probes of the type walked last and of the one being walked, with their
+/// joint positions. The next type shares the steps before its flipped one
+/// with the last, so a probe of it at a λ kept for the last realizes only
+/// from that step on (the walk prefers kept λs for its samples).
+struct Kept<T> {
+    last: Generation<T>,
+    /// Steps the type being walked shares with the one walked last (before their first differing bit).
+    shared: usize,
+    current: Generation<T>,
+    /// Position blocks of dropped probes, for reuse.
+    spare: Vec<Vec<P2<Jet<T>>>>,
+}
+
+/// The probes of one type.
+struct Generation<T> {
+    bits: Vec<bool>,
+    probes: Vec<KeptProbe<T>>,
+}
+
+struct KeptProbe<T> {
+    lambda: T,
+    d: Vec<Jet<T>>,
+    pos: Vec<P2<Jet<T>>>,
+}
+
+/// A sample is moved nearer, down to this fraction of its gap, to a λ the
+/// last type was probed at ...
+const KEPT_SNAP: f64 = 0.3;
+/// ... when the types share at least 1/this of their steps.
+const KEPT_WORTH: usize = 4;
+
+/// At most this many joint positions are kept per type walked (48 bytes
+/// each in jets: 24 MB; a 1000-step chain keeps about 30 probes of 3000).
+const KEPT_POSITIONS: usize = 1 << 19;
+
+impl<T: Real> Kept<T> {
+    fn new() -> Self {
+        let empty = || Generation { bits: Vec::new(), probes: Vec::new() };
+        Kept { last: empty(), shared: 0, current: empty(), spare: Vec::new() }
+    }
+
+    /// Probes of `bits` from now on: the type being walked becomes the last
+    /// one when `bits` is another.
+    fn enter(&mut self, bits: &[bool]) {
+        if self.current.bits == bits {
+            return;
+        }
+        let fresh = Generation { bits: bits.to_vec(), probes: Vec::new() };
+        let last = std::mem::replace(&mut self.last, std::mem::replace(&mut self.current, fresh));
+        self.spare.extend(last.probes.into_iter().map(|p| p.pos));
+        self.shared = self.last.bits.iter().zip(bits).take_while(|(a, b)| a == b).count();
+    }
+
+    /// The last type's probe at exactly λ.
+    fn last_at(&self, lambda: T) -> Option<&KeptProbe<T>> {
+        self.last.probes.iter().find(|p| p.lambda == lambda)
+    }
+
+    fn keep(&mut self, probe: KeptProbe<T>) {
+        let n_joints = probe.pos.len().max(1);
+        if (self.current.probes.len() + 1) * n_joints <= KEPT_POSITIONS {
+            self.current.probes.push(probe);
+        } else {
+            self.spare.push(probe.pos);
+        }
+    }
+}
+
+/// Steps `0..steps` close on the open λ range (lo, hi), and at lo (hi)
+/// when `at_ends[0]` (`[1]`): no step of theirs is flat at that end.
+struct Closing<T> {
+    steps: usize,
+    range: [T; 2],
+    at_ends: [bool; 2],
+}
+
+impl<T: Real> Closing<T> {
+    /// The steps of the walked interval `from` that type `bits` shares (its
+    /// bits before the first that differs), with where they close.
+    fn shared(from: &OrientedInterval<T>, bits: &[bool]) -> Self {
+        let steps = from.ty.0.iter().zip(bits).take_while(|(a, b)| a == b).count();
+        let clear = |e: &Endpoint<T>| e.events.iter().all(|ev| ev.step >= steps);
+        Closing {
+            steps,
+            range: [from.lower.lambda, from.upper.lambda],
+            at_ends: [clear(&from.lower), clear(&from.upper)],
+        }
+    }
+
+    /// How many steps (from the first) close all over the gap between a and b.
+    fn over(&self, a: T, b: T) -> usize {
+        let (lo, hi) = if a < b { (a, b) } else { (b, a) };
+        let [l, h] = self.range;
+        let inside = (lo > l || (lo == l && self.at_ends[0])) && (hi < h || (hi == h && self.at_ends[1]));
+        if inside { self.steps } else { 0 }
+    }
+}
+
 struct Walker<'a, T: Real> {
     con: &'a Construction<T>,
     cert: &'a Certifier,
@@ -204,11 +302,16 @@ struct Walker<'a, T: Real> {
     /// approach to it ends there, and a sign change of those steps' slacks
     /// in that gap is that end, not a root to locate again.
     known_end: Option<(T, Vec<Event>)>,
+    /// The steps the type being walked shares with the interval the walk
+    /// came from close all over that interval (that walk found no end of
+    /// theirs inside it): gaps there examine only the later steps.
+    closing: Option<Closing<T>>,
     /// Counted for [`WalkCounts`].
     steps_realized: Cell<usize>,
     /// Positions reused by every probe (jets) and Newton evaluation
     /// (slopes): a fresh block each time cost a long chain's walk page faults.
     scratch: RefCell<Vec<P2<Jet<T>>>>,
+    kept: RefCell<Kept<T>>,
     slope_scratch: RefCell<Vec<P2<Slope<T>>>>,
     roots: Cell<usize>,
     newton_evaluations: Cell<usize>,
@@ -261,8 +364,10 @@ impl<'a, T: Real> Walker<'a, T> {
             kinds: (0..con.steps.len()).map(|k| cert.kinds(k)).collect(),
             root_probe: None,
             known_end: None,
+            closing: None,
             steps_realized: Cell::new(0),
             scratch: RefCell::new(Vec::new()),
+            kept: RefCell::new(Kept::new()),
             slope_scratch: RefCell::new(Vec::new()),
             roots: Cell::new(0),
             newton_evaluations: Cell::new(0),
@@ -274,9 +379,35 @@ impl<'a, T: Real> Walker<'a, T> {
         self.steps_realized.set(self.steps_realized.get() + steps);
     }
 
+    /// Every step's base-distance jet of type `bits` at λ (up to the first
+    /// that cannot close), from the steps the last type walked shares with
+    /// it when that type was probed at λ.
     fn probe(&self, bits: &[bool], lambda: T) -> Probe<T> {
-        let d = self.jet.base_distances_in(&mut self.scratch.borrow_mut(), Jet::variable(lambda), bits);
-        self.count_steps(d.len());
+        let mut kept = self.kept.borrow_mut();
+        kept.enter(bits);
+        let mut pos = kept.spare.pop().unwrap_or_default();
+        let shared = kept.shared;
+        let (d, realized) = match kept.last_at(lambda) {
+            // It failed before the types differ: so does this one, there.
+            Some(last) if last.d.len() <= shared => {
+                pos.clone_from(&last.pos);
+                (last.d.clone(), 0)
+            }
+            Some(last) => {
+                pos.clone_from(&last.pos);
+                let mut d = last.d[..shared].to_vec();
+                self.jet.resume_distances_in(&mut pos, shared, bits, &mut d);
+                let realized = d.len() - shared;
+                (d, realized)
+            }
+            None => {
+                let d = self.jet.base_distances_in(&mut pos, Jet::variable(lambda), bits);
+                let realized = d.len();
+                (d, realized)
+            }
+        };
+        self.count_steps(realized);
+        kept.keep(KeptProbe { lambda, d: d.clone(), pos });
         Probe { lambda, d }
     }
 
@@ -431,7 +562,9 @@ impl<'a, T: Real> Walker<'a, T> {
                 return j == 0;
             }
             let p = self.probe(&next.0, e.lambda);
+            self.closing = Some(Closing::shared(&intervals[cur], &next.0));
             let other = self.next_end(&next.0, &p, dir, &e.events);
+            self.closing = None;
             let other = self.end_point(other);
             let iv = if leaving_upper {
                 OrientedInterval { ty: next, lower: other, upper: e }
@@ -507,9 +640,14 @@ impl<'a, T: Real> Walker<'a, T> {
                     let remaining = (target - near.lambda) * dir;
                     let reach =
                         if approaching.is_some() { remaining * T::from_f64(1.0 - 1.0 / ratio) } else { remaining };
-                    let x = near.lambda + dir * if step < reach { step } else { reach };
+                    let advance = if step < reach { step } else { reach };
+                    let x = near.lambda + dir * advance;
                     let to_end = approaching.is_some() && remaining <= last_gap;
-                    if !to_end && between(x, near.lambda, target) { x } else { target }
+                    if !to_end && between(x, near.lambda, target) {
+                        self.kept_within(near.lambda, dir, advance * T::from_f64(KEPT_SNAP), advance).unwrap_or(x)
+                    } else {
+                        target
+                    }
                 }
             };
             if (x - near.lambda) * dir <= T::zero() && approaching.as_ref().is_none_or(|(at, _)| *at != x) {
@@ -526,7 +664,8 @@ impl<'a, T: Real> Walker<'a, T> {
             let mut ends = Vec::with_capacity(2);
             ends.extend((!entering.is_empty()).then_some(from.lambda));
             ends.extend(approaching.as_ref().map(|(at, _)| *at));
-            let model = self.model_error(&near, &right, dir, &ends);
+            let known = self.closing.as_ref().map_or(0, |c| c.over(near.lambda, x));
+            let model = self.model_error(&near, &right, dir, &ends, known);
             // A gap within the approach distance of an end the walk entered
             // by or is approaching is not refined: there the later steps'
             // jets say nothing (see `tolerance::LAZY_APPROACH`).
@@ -536,7 +675,8 @@ impl<'a, T: Real> Walker<'a, T> {
             // bottom of f64's range run out of them before `finest`).
             if !at_end && gap > finest && between(mid, near.lambda, x) && model.is_none_or(|e| e > 1.0) {
                 pending.push(x);
-                pending.push(mid);
+                let quarter = gap * T::from_f64(0.25);
+                pending.push(self.kept_within(near.lambda, dir, quarter, gap - quarter).unwrap_or(mid));
                 made.push(right);
                 continue;
             }
@@ -559,7 +699,7 @@ impl<'a, T: Real> Walker<'a, T> {
             let next = gap * T::from_f64(grow);
             step = if next > widest { widest } else { next };
             self.known_end = approaching.clone().filter(|(at, _)| *at == x);
-            let found = self.scan_gap(bits, &near, &right, dir, &flat_at_near);
+            let found = self.scan_gap(bits, (&near, &right), dir, &flat_at_near, known);
             let verified = match &approaching {
                 // The last gap before the end being approached: rounding may
                 // leave its slack a hair positive at the end itself.
@@ -591,6 +731,26 @@ impl<'a, T: Real> Walker<'a, T> {
         End::Events(far, self.flat_on_base(far))
     }
 
+    /// The farthest λ the last type was probed at that lies `lo` to `hi`
+    /// beyond `from` in direction `dir`, when the type being walked shares
+    /// enough of its steps for a probe there to pay for the shorter gap.
+    fn kept_within(&self, from: T, dir: T, lo: T, hi: T) -> Option<T> {
+        let kept = self.kept.borrow();
+        if kept.shared * KEPT_WORTH < self.con.steps.len() {
+            return None;
+        }
+        let ahead = |p: &&KeptProbe<T>| {
+            let t = (p.lambda - from) * dir;
+            t >= lo && t <= hi
+        };
+        kept.last
+            .probes
+            .iter()
+            .filter(ahead)
+            .map(|p| p.lambda)
+            .max_by(|a, b| cmp(&((*a - from) * dir), &((*b - from) * dir)))
+    }
+
     /// How well the gap is sampled: the largest error of a slack's
     /// quadratic Taylor model from either end of the gap in predicting its
     /// value at the other, in units of [`tolerance::MODEL_MARGIN`] of the
@@ -607,7 +767,7 @@ impl<'a, T: Real> Walker<'a, T> {
     /// of the distance t to it: there a slack may be modelled as quadratic
     /// in √t instead (a + b√t + ct, which has no inflection either), and the
     /// better of the models counts.
-    fn model_error(&self, near: &Probe<T>, right: &Probe<T>, dir: T, ends: &[T]) -> Option<f64> {
+    fn model_error(&self, near: &Probe<T>, right: &Probe<T>, dir: T, ends: &[T], known: usize) -> Option<f64> {
         let half = T::from_f64(0.5);
         let length = (right.lambda - near.lambda) * dir;
         let coarse = T::from_f64(tolerance::WELL_SAMPLED_COARSE * self.con.scale);
@@ -622,7 +782,7 @@ impl<'a, T: Real> Walker<'a, T> {
             .collect();
         let n = near.d.len().min(right.d.len());
         let mut worst = 0.0f64;
-        for k in 0..n {
+        for k in known..n {
             for &kind in self.kinds(k) {
                 let (s0, s1) = (self.slack(k, kind, near.d[k], dir), self.slack(k, kind, right.d[k], dir));
                 if s1.v <= T::zero() {
@@ -692,10 +852,10 @@ impl<'a, T: Real> Walker<'a, T> {
     fn scan_gap(
         &mut self,
         bits: &[bool],
-        near: &Probe<T>,
-        right: &Probe<T>,
+        (near, right): (&Probe<T>, &Probe<T>),
         dir: T,
         flat_at_near: &[Event],
+        known: usize,
     ) -> Option<(T, Vec<Event>)> {
         // Once a root is found, the gap ends there: later steps are examined up to it.
         let mut shrunk: Option<Probe<T>> = None;
@@ -703,7 +863,7 @@ impl<'a, T: Real> Walker<'a, T> {
         // The plain sign change predicted first (from the slopes at the far
         // end) is located first: the other steps are then examined up to
         // it, and most never need a root of their own.
-        let first = self.first_crossing(near, right, dir, flat_at_near);
+        let first = self.first_crossing(near, right, dir, flat_at_near, known);
         // The step (and kind) whose root the gap ends at: steps after it behave
         // like square roots there.
         let mut ends_at: Option<(usize, usize)> = None;
@@ -716,7 +876,7 @@ impl<'a, T: Real> Walker<'a, T> {
             shrunk = Some(if root == right.lambda { right.clone() } else { self.probe(bits, root) });
             ends_at = Some((k, i));
         }
-        for k in 0..self.con.steps.len() {
+        for k in known..self.con.steps.len() {
             let far = shrunk.as_ref().unwrap_or(right);
             if k >= far.d.len() || k >= near.d.len() {
                 break; // the prefix fails with no step flat: the caller reports it
@@ -764,11 +924,12 @@ impl<'a, T: Real> Walker<'a, T> {
         right: &Probe<T>,
         dir: T,
         flat_at_near: &[Event],
+        known: usize,
     ) -> Option<(usize, usize)> {
         let length = (right.lambda - near.lambda) * dir;
         let n = near.d.len().min(right.d.len());
         let mut best: Option<((usize, usize), T)> = None;
-        for k in 0..n {
+        for k in known..n {
             for (i, &kind) in self.kinds(k).iter().enumerate() {
                 let s1 = self.slack(k, kind, right.d[k], dir);
                 if s1.v.partial_cmp(&T::zero()) != Some(std::cmp::Ordering::Less) || self.rounding_at_tangency(s1) {

@@ -639,6 +639,17 @@ impl<T: Real> Construction<T> {
         d
     }
 
+    /// [`Self::base_distances_in`] resumed at step `from`: `pos` holds a
+    /// realization at the same λ of a type whose bits before `from` are
+    /// `bits`' (steps after it place their joints before later steps read
+    /// them, so its later joints need not be this type's), and `d` its first
+    /// `from` distances, to which the rest are pushed.
+    pub fn resume_distances_in(&self, pos: &mut [P2<T>], from: usize, bits: &[bool], d: &mut Vec<T>) {
+        let tol = tolerance::FEASIBLE * self.scale;
+        let n = self.steps.len();
+        let _ = self.steps_into(pos, from, bits, (n, n), &[], tol, Some(d));
+    }
+
     /// [`Self::base_distances`] with the steps in `flat` placed exactly flat,
     /// up to step `upto` (included when every step before it closes; `bits`
     /// needs `upto` of them).
@@ -684,10 +695,26 @@ impl<T: Real> Construction<T> {
         (upto, reach): (usize, usize),
         flat: &[usize],
         tol: f64,
-        mut distances: Option<&mut Vec<T>>,
+        distances: Option<&mut Vec<T>>,
     ) -> Result<(), Unrealizable> {
         self.start_into(pos, lambda);
-        for (k, &plus) in bits.iter().enumerate().take(upto.min(self.steps.len())) {
+        self.steps_into(pos, 0, bits, (upto, reach), flat, tol, distances)
+    }
+
+    /// Steps `from` up to `upto` of [`Self::realize_steps_into`] on
+    /// positions where the steps before `from` are placed.
+    #[allow(clippy::too_many_arguments)]
+    fn steps_into(
+        &self,
+        pos: &mut [P2<T>],
+        from: usize,
+        bits: &[bool],
+        (upto, reach): (usize, usize),
+        flat: &[usize],
+        tol: f64,
+        mut distances: Option<&mut Vec<T>>,
+    ) -> Result<(), Unrealizable> {
+        for (k, &plus) in bits.iter().enumerate().take(upto.min(self.steps.len())).skip(from) {
             let (dk, placed) = self.place_step(pos, k, (plus, flat.contains(&k)), tol, reach);
             if let Some(d) = distances.as_deref_mut() {
                 d.push(dk);
@@ -705,16 +732,22 @@ impl<T: Real> Construction<T> {
         pos
     }
 
-    /// [`Self::start`] in `pos` (cleared first, its allocation reused).
+    /// [`Self::start`] in `pos`, its allocation reused. A block of the right
+    /// size is not cleared: every joint a step reads is placed before it is
+    /// read, so only the base joints are written (the others keep whatever
+    /// an earlier realization left, unread).
     fn start_into(&self, pos: &mut Vec<P2<T>>, lambda: T) {
-        let zero = T::zero();
-        pos.clear();
-        pos.resize(self.n_joints, [zero, zero]);
+        if pos.len() != self.n_joints {
+            let zero = T::zero();
+            pos.clear();
+            pos.resize(self.n_joints, [zero, zero]);
+        }
         self.place_base(pos, lambda);
     }
 
-    /// Base joint b at (λ, 0) in a block of joints at the origin.
+    /// Base joint a at the origin and b at (λ, 0).
     pub(crate) fn place_base(&self, pos: &mut [P2<T>], lambda: T) {
+        pos[self.base[0]] = [T::zero(), T::zero()];
         pos[self.base[1]] = [lambda, T::zero()];
     }
 
