@@ -35,6 +35,7 @@ use crate::certify::{At, Certifier, Sign};
 use crate::real::{Jet, Real, Slope};
 use crate::realize::{Construction, Event, Kind, P2, RealizationType, Unrealizable};
 use std::cell::{Cell, RefCell};
+use std::collections::VecDeque;
 
 use crate::roots::{
     Endpoint, EndpointIds, Extremum, base_distance_jet, between, cmp, cosine_sample, newton, newton_from,
@@ -179,14 +180,16 @@ enum End<T> {
     Stuck(T, usize),
 }
 
-/// Probes of the type walked last and of the one being walked, with their
-/// joint positions. The next type shares the steps before its flipped one
-/// with the last, so a probe of it at a λ kept for the last realizes only
-/// from that step on (the walk prefers kept λs for its samples).
+/// Probes of the types walked recently and of the one being walked, with
+/// their joint positions. A type shares the steps before the first bit it
+/// differs in with each earlier one (with the one walked last, the steps
+/// before its flipped one), so a probe of it at a λ kept for an earlier
+/// type realizes only from there on (the walk prefers kept λs for its
+/// samples).
 struct Kept<T> {
-    last: Generation<T>,
-    /// Steps the type being walked shares with the one walked last (before their first differing bit).
-    shared: usize,
+    /// The types walked before the current one, the latest first, each with
+    /// the steps it shares with the current one.
+    earlier: VecDeque<(Generation<T>, usize)>,
     current: Generation<T>,
     /// Position blocks of dropped probes, for reuse.
     spare: Vec<Vec<P2<Jet<T>>>>,
@@ -204,48 +207,70 @@ struct KeptProbe<T> {
     pos: Vec<P2<Jet<T>>>,
 }
 
-/// A sample is moved nearer, down to this fraction of its gap, to a λ the
-/// last type was probed at ...
+/// A sample is moved nearer, down to this fraction of its gap, to a λ an
+/// earlier type was probed at ...
 const KEPT_SNAP: f64 = 0.3;
 /// ... when the types share at least 1/this of their steps.
 const KEPT_WORTH: usize = 4;
 
-/// At most this many joint positions are kept per type walked (48 bytes
-/// each in jets: 24 MB; a 1000-step chain keeps about 30 probes of 3000).
+/// At most this many joint positions are kept in all (48 bytes each in
+/// jets: 24 MB; a 1000-step chain keeps about 170 probes of 3000 joints),
+/// the oldest types' dropped first.
 const KEPT_POSITIONS: usize = 1 << 19;
 
 impl<T: Real> Kept<T> {
     fn new() -> Self {
-        let empty = || Generation { bits: Vec::new(), probes: Vec::new() };
-        Kept { last: empty(), shared: 0, current: empty(), spare: Vec::new() }
+        Kept {
+            earlier: VecDeque::new(),
+            current: Generation { bits: Vec::new(), probes: Vec::new() },
+            spare: Vec::new(),
+        }
     }
 
-    /// Probes of `bits` from now on: the type being walked becomes the last
-    /// one when `bits` is another.
+    /// Probes of `bits` from now on: the type being walked joins the
+    /// earlier ones when `bits` is another.
     fn enter(&mut self, bits: &[bool]) {
         if self.current.bits == bits {
             return;
         }
         let fresh = Generation { bits: bits.to_vec(), probes: Vec::new() };
-        let last = std::mem::replace(&mut self.last, std::mem::replace(&mut self.current, fresh));
-        self.spare.extend(last.probes.into_iter().map(|p| p.pos));
-        self.shared = self.last.bits.iter().zip(bits).take_while(|(a, b)| a == b).count();
+        let last = std::mem::replace(&mut self.current, fresh);
+        self.earlier.push_front((last, 0));
+        for (g, shared) in &mut self.earlier {
+            *shared = g.bits.iter().zip(bits).take_while(|(a, b)| a == b).count();
+        }
     }
 
-    /// The last type's probe at exactly λ.
-    fn last_at(&self, lambda: T) -> Option<&KeptProbe<T>> {
-        self.last.probes.iter().find(|p| p.lambda == lambda)
+    /// The kept probe at exactly λ of the earlier type that shares the most
+    /// steps with the current one, with that count.
+    fn best_at(&self, lambda: T) -> Option<(&KeptProbe<T>, usize)> {
+        self.earlier
+            .iter()
+            .filter_map(|(g, shared)| g.probes.iter().find(|p| p.lambda == lambda).map(|p| (p, *shared)))
+            .max_by_key(|&(_, shared)| shared)
     }
 
     fn keep(&mut self, probe: KeptProbe<T>) {
         let n_joints = probe.pos.len().max(1);
-        if (self.current.probes.len() + 1) * n_joints <= KEPT_POSITIONS {
+        let kept = |g: &Generation<T>| g.probes.len();
+        let mut total = kept(&self.current) + self.earlier.iter().map(|(g, _)| kept(g)).sum::<usize>();
+        while (total + 1) * n_joints > KEPT_POSITIONS {
+            let Some((oldest, _)) = self.earlier.pop_back() else { break };
+            total -= oldest.probes.len();
+            self.spare.extend(oldest.probes.into_iter().map(|p| p.pos));
+        }
+        if (total + 1) * n_joints <= KEPT_POSITIONS {
             self.current.probes.push(probe);
         } else {
             self.spare.push(probe.pos);
         }
     }
 }
+
+/// The walk reads which steps close where from this many intervals walked
+/// last (a walk out and back shares more with the outward intervals than
+/// with the one before; a bound on the work per gap).
+const CLOSING_INTERVALS: usize = 16;
 
 /// Steps `0..steps` close on the open λ range (lo, hi), and at lo (hi)
 /// when `at_ends[0]` (`[1]`): no step of theirs is flat at that end.
@@ -302,10 +327,10 @@ struct Walker<'a, T: Real> {
     /// approach to it ends there, and a sign change of those steps' slacks
     /// in that gap is that end, not a root to locate again.
     known_end: Option<(T, Vec<Event>)>,
-    /// The steps the type being walked shares with the interval the walk
-    /// came from close all over that interval (that walk found no end of
+    /// The steps the type being walked shares with each interval walked
+    /// recently close all over that interval (its walk found no end of
     /// theirs inside it): gaps there examine only the later steps.
-    closing: Option<Closing<T>>,
+    closing: Vec<Closing<T>>,
     /// Counted for [`WalkCounts`].
     steps_realized: Cell<usize>,
     /// Positions reused by every probe (jets) and Newton evaluation
@@ -364,7 +389,7 @@ impl<'a, T: Real> Walker<'a, T> {
             kinds: (0..con.steps.len()).map(|k| cert.kinds(k)).collect(),
             root_probe: None,
             known_end: None,
-            closing: None,
+            closing: Vec::new(),
             steps_realized: Cell::new(0),
             scratch: RefCell::new(Vec::new()),
             kept: RefCell::new(Kept::new()),
@@ -380,22 +405,21 @@ impl<'a, T: Real> Walker<'a, T> {
     }
 
     /// Every step's base-distance jet of type `bits` at λ (up to the first
-    /// that cannot close), from the steps the last type walked shares with
+    /// that cannot close), from the steps an earlier type walked shares with
     /// it when that type was probed at λ.
     fn probe(&self, bits: &[bool], lambda: T) -> Probe<T> {
         let mut kept = self.kept.borrow_mut();
         kept.enter(bits);
         let mut pos = kept.spare.pop().unwrap_or_default();
-        let shared = kept.shared;
-        let (d, realized) = match kept.last_at(lambda) {
+        let (d, realized) = match kept.best_at(lambda) {
             // It failed before the types differ: so does this one, there.
-            Some(last) if last.d.len() <= shared => {
-                pos.clone_from(&last.pos);
-                (last.d.clone(), 0)
+            Some((earlier, shared)) if earlier.d.len() <= shared => {
+                pos.clone_from(&earlier.pos);
+                (earlier.d.clone(), 0)
             }
-            Some(last) => {
-                pos.clone_from(&last.pos);
-                let mut d = last.d[..shared].to_vec();
+            Some((earlier, shared)) => {
+                pos.clone_from(&earlier.pos);
+                let mut d = earlier.d[..shared].to_vec();
                 self.jet.resume_distances_in(&mut pos, shared, bits, &mut d);
                 let realized = d.len() - shared;
                 (d, realized)
@@ -562,9 +586,11 @@ impl<'a, T: Real> Walker<'a, T> {
                 return j == 0;
             }
             let p = self.probe(&next.0, e.lambda);
-            self.closing = Some(Closing::shared(&intervals[cur], &next.0));
+            let recent = intervals.len().saturating_sub(CLOSING_INTERVALS);
+            self.closing =
+                intervals[recent..].iter().map(|iv| Closing::shared(iv, &next.0)).filter(|c| c.steps > 0).collect();
             let other = self.next_end(&next.0, &p, dir, &e.events);
-            self.closing = None;
+            self.closing.clear();
             let other = self.end_point(other);
             let iv = if leaving_upper {
                 OrientedInterval { ty: next, lower: other, upper: e }
@@ -664,7 +690,7 @@ impl<'a, T: Real> Walker<'a, T> {
             let mut ends = Vec::with_capacity(2);
             ends.extend((!entering.is_empty()).then_some(from.lambda));
             ends.extend(approaching.as_ref().map(|(at, _)| *at));
-            let known = self.closing.as_ref().map_or(0, |c| c.over(near.lambda, x));
+            let known = self.closing.iter().map(|c| c.over(near.lambda, x)).max().unwrap_or(0);
             let model = self.model_error(&near, &right, dir, &ends, known);
             // A gap within the approach distance of an end the walk entered
             // by or is approaching is not refined: there the later steps'
@@ -731,23 +757,21 @@ impl<'a, T: Real> Walker<'a, T> {
         End::Events(far, self.flat_on_base(far))
     }
 
-    /// The farthest λ the last type was probed at that lies `lo` to `hi`
-    /// beyond `from` in direction `dir`, when the type being walked shares
-    /// enough of its steps for a probe there to pay for the shorter gap.
+    /// The farthest λ an earlier type was probed at that lies `lo` to `hi`
+    /// beyond `from` in direction `dir`, among the types that share enough
+    /// steps with the one being walked for a probe there to pay for the
+    /// shorter gap.
     fn kept_within(&self, from: T, dir: T, lo: T, hi: T) -> Option<T> {
         let kept = self.kept.borrow();
-        if kept.shared * KEPT_WORTH < self.con.steps.len() {
-            return None;
-        }
+        let n = self.con.steps.len();
         let ahead = |p: &&KeptProbe<T>| {
             let t = (p.lambda - from) * dir;
             t >= lo && t <= hi
         };
-        kept.last
-            .probes
+        kept.earlier
             .iter()
-            .filter(ahead)
-            .map(|p| p.lambda)
+            .filter(|(_, shared)| shared * KEPT_WORTH >= n)
+            .flat_map(|(g, _)| g.probes.iter().filter(ahead).map(|p| p.lambda))
             .max_by(|a, b| cmp(&((*a - from) * dir), &((*b - from) * dir)))
     }
 
