@@ -213,10 +213,10 @@ const KEPT_SNAP: f64 = 0.3;
 /// ... when the types share at least 1/this of their steps.
 const KEPT_WORTH: usize = 4;
 
-/// At most this many joint positions are kept in all (48 bytes each in
-/// jets: 24 MB; a 1000-step chain keeps about 170 probes of 3000 joints),
-/// the oldest types' dropped first.
-const KEPT_POSITIONS: usize = 1 << 19;
+/// At most this many bytes of joint positions are kept in all (a
+/// 1000-step chain's walk in f64 jets keeps about 110 probes of 3000
+/// joints), the oldest types' dropped first.
+const KEPT_BYTES: usize = 16 << 20;
 
 impl<T: Real> Kept<T> {
     fn new() -> Self {
@@ -252,14 +252,15 @@ impl<T: Real> Kept<T> {
 
     fn keep(&mut self, probe: KeptProbe<T>) {
         let n_joints = probe.pos.len().max(1);
+        let room = KEPT_BYTES / std::mem::size_of::<P2<Jet<T>>>();
         let kept = |g: &Generation<T>| g.probes.len();
         let mut total = kept(&self.current) + self.earlier.iter().map(|(g, _)| kept(g)).sum::<usize>();
-        while (total + 1) * n_joints > KEPT_POSITIONS {
+        while (total + 1) * n_joints > room {
             let Some((oldest, _)) = self.earlier.pop_back() else { break };
             total -= oldest.probes.len();
             self.spare.extend(oldest.probes.into_iter().map(|p| p.pos));
         }
-        if (total + 1) * n_joints <= KEPT_POSITIONS {
+        if (total + 1) * n_joints <= room {
             self.current.probes.push(probe);
         } else {
             self.spare.push(probe.pos);
