@@ -207,6 +207,11 @@ struct KeptProbe<T> {
     pos: Vec<P2<Jet<T>>>,
 }
 
+/// The walk reuses what it learned on this many intervals (types) walked
+/// last: a walk out and back shares more with the outward intervals than
+/// with the one before it. A bound on the work per probe and per gap.
+const RECENT: usize = 16;
+
 /// A sample is moved nearer, down to this fraction of its gap, to a λ an
 /// earlier type was probed at ...
 const KEPT_SNAP: f64 = 0.3;
@@ -236,6 +241,10 @@ impl<T: Real> Kept<T> {
         let fresh = Generation { bits: bits.to_vec(), probes: Vec::new() };
         let last = std::mem::replace(&mut self.current, fresh);
         self.earlier.push_front((last, 0));
+        while self.earlier.len() > RECENT {
+            let (oldest, _) = self.earlier.pop_back().expect("more than RECENT");
+            self.spare.extend(oldest.probes.into_iter().map(|p| p.pos));
+        }
         for (g, shared) in &mut self.earlier {
             *shared = g.bits.iter().zip(bits).take_while(|(a, b)| a == b).count();
         }
@@ -267,11 +276,6 @@ impl<T: Real> Kept<T> {
         }
     }
 }
-
-/// The walk reads which steps close where from this many intervals walked
-/// last (a walk out and back shares more with the outward intervals than
-/// with the one before; a bound on the work per gap).
-const CLOSING_INTERVALS: usize = 16;
 
 /// Steps `0..steps` close on the open λ range (lo, hi), and at lo (hi)
 /// when `at_ends[0]` (`[1]`): no step of theirs is flat at that end.
@@ -334,11 +338,13 @@ struct Walker<'a, T: Real> {
     closing: Vec<Closing<T>>,
     /// Counted for [`WalkCounts`].
     steps_realized: Cell<usize>,
-    /// Positions reused by every probe (jets) and Newton evaluation
-    /// (slopes): a fresh block each time cost a long chain's walk page faults.
+    /// Positions reused by every single-slack evaluation (jets) and Newton
+    /// evaluation (slopes): a fresh block each time cost a long chain's walk
+    /// page faults. Probes take theirs from `kept`.
     scratch: RefCell<Vec<P2<Jet<T>>>>,
-    kept: RefCell<Kept<T>>,
     slope_scratch: RefCell<Vec<P2<Slope<T>>>>,
+    /// Probes of recent types, with their positions ([`Kept`]).
+    kept: RefCell<Kept<T>>,
     roots: Cell<usize>,
     newton_evaluations: Cell<usize>,
 }
@@ -393,8 +399,8 @@ impl<'a, T: Real> Walker<'a, T> {
             closing: Vec::new(),
             steps_realized: Cell::new(0),
             scratch: RefCell::new(Vec::new()),
-            kept: RefCell::new(Kept::new()),
             slope_scratch: RefCell::new(Vec::new()),
+            kept: RefCell::new(Kept::new()),
             roots: Cell::new(0),
             newton_evaluations: Cell::new(0),
         }
@@ -587,7 +593,7 @@ impl<'a, T: Real> Walker<'a, T> {
                 return j == 0;
             }
             let p = self.probe(&next.0, e.lambda);
-            let recent = intervals.len().saturating_sub(CLOSING_INTERVALS);
+            let recent = intervals.len().saturating_sub(RECENT);
             self.closing =
                 intervals[recent..].iter().map(|iv| Closing::shared(iv, &next.0)).filter(|c| c.steps > 0).collect();
             let other = self.next_end(&next.0, &p, dir, &e.events);
