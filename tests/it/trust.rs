@@ -10,8 +10,8 @@ use caymos::bundled;
 use caymos::cayley_space::{Note, OrientedInterval};
 use caymos::generate::{chain, four_bar, random_linkage};
 use caymos::lazy::{LazyOptions, component_through};
-use caymos::real::{Dd, Jet, Real};
-use caymos::realize::{Event, Kind};
+use caymos::real::{Ball, Dd, Jet, Real};
+use caymos::realize::{Construction, Event, Kind};
 use caymos::scene::{Scene, parse_scene};
 use proptest::prelude::*;
 
@@ -597,4 +597,61 @@ fn a_lazy_report_warns_of_estimates_only_where_the_full_one_does() {
         }
     }
     assert!(compared >= 8, "only {compared} scenes compared");
+}
+
+/// A prefix stopped where a ball the measured step depends on overflowed
+/// (the certifier's bracket search at a deep end of a long chain) loses
+/// nothing: where it stops, the whole prefix's ball has overflowed too (or
+/// an earlier step fails); where it does not, it is the same ball, bit for
+/// bit, or the same failure.
+#[test]
+fn prefixes_stopped_at_an_overflowed_ball_lose_nothing() {
+    let (a, s) = solve_with(chain(40), None, Scope::Lazy);
+    let con: Construction<Ball<f64>> = Construction::new(&a.linkage, &s.dec).unwrap();
+    let bits = &s.drawn.ty.0;
+    let lambda = Ball::exact(s.drawn.lambda);
+    let (mut pos, mut whole_pos, mut stopped) = (Vec::new(), Vec::new(), 0);
+    for k in 0..con.steps.len() {
+        let ancestors = con.ancestors(k);
+        let overflowed = |j: usize, d: &Ball<f64>| ancestors[j] && !d.r.is_finite();
+        let early = con.prefix_distance_unless(&mut pos, lambda, bits, k, overflowed);
+        let whole = con.prefix_distance_into(&mut whole_pos, lambda, bits, k);
+        let same = |d: Ball<f64>| (d.m.to_bits(), d.r.to_bits());
+        match early {
+            Ok(Some(d)) => assert_eq!(Ok(same(d)), whole.map(same), "step {k}"),
+            Ok(None) => {
+                stopped += 1;
+                assert!(whole.is_err() || !whole.unwrap().r.is_finite(), "step {k}: {whole:?}");
+            }
+            Err(e) => assert_eq!(Err(e), whole.map(same), "step {k}"),
+        }
+    }
+    // The chain's balls overflow within its first steps: the stop is taken.
+    assert!(stopped > 0 && stopped < con.steps.len(), "stopped at {stopped} steps");
+}
+
+/// A step's ancestors are all it depends on: flipping the orientation of
+/// any other earlier step leaves its base distance unchanged, bit for bit
+/// (two Jansen legs on one crank: each leg's steps depend on the crank, not
+/// on the other leg).
+#[test]
+fn a_step_depends_on_its_ancestors_only() {
+    let (_, s) = solve(caymos::generate::strandbeest(2));
+    let con = &s.construction;
+    let bits = &s.drawn.ty.0;
+    let mut independent = 0;
+    for k in 0..con.steps.len() {
+        let ancestors = con.ancestors(k);
+        let d = con.realize_prefix(s.drawn.lambda, bits, k).map(|p| con.base_distance(&p, k).to_bits());
+        for j in (0..k).filter(|&j| !ancestors[j]) {
+            independent += 1;
+            let mut flipped = bits.clone();
+            flipped[j] = !flipped[j];
+            let e = con.realize_prefix(s.drawn.lambda, &flipped, k).map(|p| con.base_distance(&p, k).to_bits());
+            if let (Ok(d), Ok(e)) = (d, e) {
+                assert_eq!(d, e, "step {k} moved with step {j}");
+            }
+        }
+    }
+    assert!(independent > 0, "two legs have independent steps");
 }

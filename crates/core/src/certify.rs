@@ -614,9 +614,13 @@ impl Certifier {
         let s = &con.steps[event.step];
         // One block of positions for every realization of the search.
         let pos = RefCell::new(Vec::new());
+        // A ball the flat step depends on that overflowed proves nothing
+        // downstream: the realization stops there.
+        let ancestors = con.ancestors(event.step);
+        let overflowed = |j: usize, d: &Ball<T>| ancestors[j] && !d.r.is_finite();
         let slack_ball = |x: T| -> Option<Ball<T>> {
             let mut pos = pos.borrow_mut();
-            let d = con.prefix_distance_into(&mut pos, Ball::exact(x), bits, event.step).ok()?;
+            let d = con.prefix_distance_unless(&mut pos, Ball::exact(x), bits, event.step, overflowed).ok()??;
             Some(event.kind.slack_value(s.r1, s.r2, d))
         };
         let slack = |x: T| slack_ball(x)?.sign();

@@ -603,8 +603,53 @@ impl<T: Real> Construction<T> {
         bits: &[bool],
         k: usize,
     ) -> Result<T, Unrealizable> {
-        self.realize_steps_into(pos, lambda, bits, (k, k), &[], tolerance::FEASIBLE * self.scale, None)?;
-        Ok(self.base_distance(pos, k))
+        self.prefix_distance_unless(pos, lambda, bits, k, |_, _| false).map(|d| d.expect("never stopped"))
+    }
+
+    /// [`Self::prefix_distance_into`], stopped with `Ok(None)` at the first
+    /// step j whose base distance d_j makes `stop(j, d_j)` true. With the
+    /// steps k depends on ([`Self::ancestors`]) and a ball whose radius
+    /// overflowed, d_k is then a ball whose radius overflowed too (so stays
+    /// an overflowed radius through every later operation): a long chain's
+    /// balls overflow within a few dozen steps, and a deep step's prefix no
+    /// longer runs to its end to say so.
+    pub fn prefix_distance_unless(
+        &self,
+        pos: &mut Vec<P2<T>>,
+        lambda: T,
+        bits: &[bool],
+        k: usize,
+        stop: impl Fn(usize, &T) -> bool,
+    ) -> Result<Option<T>, Unrealizable> {
+        let tol = tolerance::FEASIBLE * self.scale;
+        self.start_into(pos, lambda);
+        for (j, &plus) in bits.iter().enumerate().take(k) {
+            let (dj, placed) = self.place_step(pos, j, (plus, false), tol, k);
+            if stop(j, &dj) {
+                return Ok(None);
+            }
+            placed?;
+        }
+        Ok(Some(self.base_distance(pos, k)))
+    }
+
+    /// The steps before step k that it depends on: those placing a joint
+    /// (vertex or member) that k, or a step it depends on, reads as its u or w.
+    pub fn ancestors(&self, k: usize) -> Vec<bool> {
+        let mut read = vec![false; self.n_joints];
+        let mut ancestors = vec![false; k];
+        read[self.steps[k].u] = true;
+        read[self.steps[k].w] = true;
+        for j in (0..k).rev() {
+            let s = &self.steps[j];
+            let mut placed = std::iter::once(s.vertex).chain(s.members_u.iter().chain(&s.members_w).map(|m| m.joint));
+            if placed.any(|q| read[q]) {
+                ancestors[j] = true;
+                read[s.u] = true;
+                read[s.w] = true;
+            }
+        }
+        ancestors
     }
 
     /// Realize with the steps in `flat` placed exactly flat (height zero):
