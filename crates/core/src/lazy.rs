@@ -23,6 +23,15 @@
 //! construction order and every root found pulls the gap's far end in, so a
 //! step is only examined where the steps before it close.
 //!
+//! Reuse: consecutive types differ from the flipped step on, and a walk out
+//! and back meets types again but for a bit or two. Each type shares its
+//! steps before the first differing bit with the types walked recently: a
+//! probe at a λ one of them was probed at resumes from its kept positions
+//! at that bit (samples move nearer to such λs), and a gap inside one of
+//! their intervals examines only the steps not shared (the shared ones close
+//! all over it). The guarantee below stands: the reuse changes only what is
+//! recomputed and where the samples fall.
+//!
 //! Guarantee: the numeric method's (see `numeric_roots` in
 //! [`crate::cayley_space`](mod@crate::cayley_space)): every end is found unless a gap between samples
 //! holds two inflections of one slack; a near-double root is a tangency and is

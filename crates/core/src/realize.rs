@@ -607,12 +607,11 @@ impl<T: Real> Construction<T> {
     }
 
     /// [`Self::prefix_distance_into`], stopped with `Ok(None)` at the first
-    /// step j whose base distance d_j makes `stop(j, d_j)` true. With the
-    /// steps k depends on ([`Self::ancestors`]) and a ball whose radius
-    /// overflowed, d_k is then a ball whose radius overflowed too (so stays
-    /// an overflowed radius through every later operation): a long chain's
-    /// balls overflow within a few dozen steps, and a deep step's prefix no
-    /// longer runs to its end to say so.
+    /// step j for which `stop(j, d_j)` holds. The certifier stops at a ball
+    /// that overflowed on a step k depends on ([`Self::ancestors`]): the
+    /// joints placed from it, and so d_k, would overflow too (an overflowed
+    /// radius stays so through every later operation), and a long chain's
+    /// balls overflow within a few dozen steps of a prefix of hundreds.
     pub fn prefix_distance_unless(
         &self,
         pos: &mut Vec<P2<T>>,
