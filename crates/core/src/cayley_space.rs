@@ -26,7 +26,7 @@ use crate::decompose::Decomposition;
 use crate::invert::Inverter;
 use crate::real::{Jet, Real, Slope};
 use crate::realize::{Construction, Event, Kind, P2, RealizationType};
-use crate::roots::{Endpoint, EndpointIds, Extremum, base_distance_jet, bisect, cmp, cosine_sample, side_signs, sign};
+use crate::roots::{Endpoint, EndpointIds, Extremum, base_distance_at, bisect, cmp, cosine_sample, side_signs, sign};
 use crate::tolerance;
 
 /// A maximal closed λ-interval on which one realization type exists
@@ -302,7 +302,7 @@ impl<T: Real> Sweep<'_, T> {
     /// d_k at λ for the prefix `bits`, with its first and second derivative
     /// (realized into the sweep's one block of positions).
     fn distance(&self, k: usize, bits: &[bool], lambda: T) -> Option<Jet<T>> {
-        base_distance_jet(&self.jet, &mut self.positions.borrow_mut(), bits, k, lambda)
+        base_distance_at(&self.jet, &mut self.positions.borrow_mut(), bits, k, Jet::variable(lambda))
     }
 
     /// [`Self::distance`]'s value and slope alone (the same numbers).
@@ -311,9 +311,7 @@ impl<T: Real> Sweep<'_, T> {
             return self.distance(k, bits, lambda).map(Jet::slope);
         }
         let slopes = self.slopes.get_or_init(|| self.jet.map(Jet::slope));
-        let mut pos = self.slope_positions.borrow_mut();
-        let d = slopes.prefix_distance_into(&mut pos, Slope::variable(lambda), bits, k).ok()?;
-        d.v.to_f64().is_finite().then_some(d)
+        base_distance_at(slopes, &mut self.slope_positions.borrow_mut(), bits, k, Slope::variable(lambda))
     }
 
     /// Slack of step k as a jet (value, slope, curvature).

@@ -47,7 +47,7 @@ use std::cell::{Cell, RefCell};
 use std::collections::VecDeque;
 
 use crate::roots::{
-    Endpoint, EndpointIds, Extremum, base_distance_jet, between, cmp, cosine_sample, newton, newton_from,
+    Endpoint, EndpointIds, Extremum, base_distance_at, between, cmp, cosine_sample, newton, newton_from,
     newton_from_end, newton_seeded, quadratic_root, side_signs,
 };
 use crate::tolerance;
@@ -255,7 +255,7 @@ impl<T: Real> Kept<T> {
             self.spare.extend(oldest.probes.into_iter().map(|p| p.pos));
         }
         for (g, shared) in &mut self.earlier {
-            *shared = g.bits.iter().zip(bits).take_while(|(a, b)| a == b).count();
+            *shared = shared_steps(&g.bits, bits);
         }
     }
 
@@ -286,6 +286,12 @@ impl<T: Real> Kept<T> {
     }
 }
 
+/// How many steps two types share: their bits before the first that differs
+/// (realizations of both agree up to there).
+fn shared_steps(a: &[bool], b: &[bool]) -> usize {
+    a.iter().zip(b).take_while(|(x, y)| x == y).count()
+}
+
 /// Steps `0..steps` close on the open λ range (lo, hi), and at lo (hi)
 /// when `at_ends[0]` (`[1]`): no step of theirs is flat at that end.
 struct Closing<T> {
@@ -298,7 +304,7 @@ impl<T: Real> Closing<T> {
     /// The steps of the walked interval `from` that type `bits` shares (its
     /// bits before the first that differs), with where they close.
     fn shared(from: &OrientedInterval<T>, bits: &[bool]) -> Self {
-        let steps = from.ty.0.iter().zip(bits).take_while(|(a, b)| a == b).count();
+        let steps = shared_steps(&from.ty.0, bits);
         let clear = |e: &Endpoint<T>| e.events.iter().all(|ev| ev.step >= steps);
         Closing {
             steps,
@@ -478,7 +484,7 @@ impl<'a, T: Real> Walker<'a, T> {
     /// Step k's slack at λ alone (realizing only the steps before it).
     fn slack_at(&self, s: Along<T>, lambda: T) -> Option<Jet<T>> {
         self.count_steps(s.k + 1);
-        let d = base_distance_jet(self.jet, &mut self.scratch.borrow_mut(), s.bits, s.k, lambda)?;
+        let d = base_distance_at(self.jet, &mut self.scratch.borrow_mut(), s.bits, s.k, Jet::variable(lambda))?;
         Some(self.slack(s.k, s.kind, d, s.dir))
     }
 
@@ -486,11 +492,8 @@ impl<'a, T: Real> Walker<'a, T> {
     /// numbers, from a realization without curvatures.
     fn slack_slope_at(&self, s: Along<T>, lambda: T) -> Option<(T, T)> {
         self.count_steps(s.k + 1);
-        let mut pos = self.slope_scratch.borrow_mut();
-        let d = self.slopes.prefix_distance_into(&mut pos, Slope::variable(lambda), s.bits, s.k).ok()?;
-        if !d.v.to_f64().is_finite() {
-            return None;
-        }
+        let d =
+            base_distance_at(&self.slopes, &mut self.slope_scratch.borrow_mut(), s.bits, s.k, Slope::variable(lambda))?;
         let st = &self.con.steps[s.k];
         let j = s.kind.slack_value(Slope::constant(st.r1), Slope::constant(st.r2), d);
         Some((j.v, j.d * s.dir))

@@ -3,7 +3,7 @@
 //! reaches zero (THEORY.md §2), and both need
 //! - the interval ends they find, with ids shared across types ([`Endpoint`], [`EndpointIds`]);
 //! - the cosine-spaced sample grid ([`cosine_sample`]);
-//! - d_k(λ) with its slope and curvature for a type prefix ([`base_distance_jet`]);
+//! - d_k(λ) with its slope and curvature for a type prefix ([`base_distance_at`]);
 //! - bracketed root finding: [`bisect`] on a sign, [`newton`] safeguarded by its bracket;
 //! - what the jets say at a root: the slack's sign on either side ([`side_signs`]), and
 //!   whether an extremum of the slack is a touch ([`Extremum`]).
@@ -12,7 +12,7 @@
 
 use std::cmp::Ordering;
 
-use crate::real::{Jet, Real};
+use crate::real::Real;
 use crate::realize::{Construction, Event, P2, RealizationType};
 use crate::tolerance;
 
@@ -62,19 +62,20 @@ pub fn cosine_sample<T: Real>(from: T, to: T, i: usize, n: usize) -> T {
     from + (to - from) * T::from_f64(0.5) * T::from_f64(1.0 - c)
 }
 
-/// Step `k`'s base distance d_k at λ for the type prefix `bits` (at least
-/// `k` bits), with its first and second derivative in λ, realized into
-/// `pos` (the caller's block of positions, reused); `None` where an earlier
-/// step cannot close or the distance is not finite.
-pub fn base_distance_jet<T: Real>(
-    jet: &Construction<Jet<T>>,
-    pos: &mut Vec<P2<Jet<T>>>,
+/// Step `k`'s base distance d_k at `lambda` for the type prefix `bits` (at
+/// least `k` bits), in the construction's arithmetic (`Jet::variable(λ)`
+/// gives its slope and curvature in λ, `Slope::variable(λ)` its slope),
+/// realized into `pos` (the caller's block of positions, reused); `None`
+/// where an earlier step cannot close or the distance is not finite.
+pub fn base_distance_at<D: Real>(
+    con: &Construction<D>,
+    pos: &mut Vec<P2<D>>,
     bits: &[bool],
     k: usize,
-    lambda: T,
-) -> Option<Jet<T>> {
-    let d = jet.prefix_distance_into(pos, Jet::variable(lambda), bits, k).ok()?;
-    d.v.to_f64().is_finite().then_some(d)
+    lambda: D,
+) -> Option<D> {
+    let d = con.prefix_distance_into(pos, lambda, bits, k).ok()?;
+    d.to_f64().is_finite().then_some(d)
 }
 
 /// The sign of `x` as −1, 0 or +1 (0 for zero and NaN).
