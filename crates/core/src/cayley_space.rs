@@ -16,6 +16,12 @@
 //! has constant sign, so its interior value decides only when no root
 //! bounds it.
 //!
+//! d_k reads only the bits of the steps that place its base joints (and
+//! theirs): prefixes that differ elsewhere refine the same piece into the
+//! same pieces, so a refinement is made once and repeated for them
+//! (`Sweep::refine_once`; on the Limacon, Jansen and Peaucellier bit 1 is
+//! such a bit, and half the sweep's proofs were repeats).
+//!
 //! Generic over the scalar type so that a double-double run is the reference.
 
 use std::cell::{OnceCell, RefCell};
@@ -23,6 +29,7 @@ use std::cell::{OnceCell, RefCell};
 use crate::certify::{At as Place, Certifier, Closes, Prefixes, Sign};
 use crate::complexity::Complexity;
 use crate::decompose::Decomposition;
+use crate::inthash::IntMap;
 use crate::invert::Inverter;
 use crate::real::{Jet, Real, Slope};
 use crate::realize::{Construction, Event, Kind, P2, RealizationType};
@@ -200,7 +207,36 @@ struct Sweep<'a, T: Real> {
     slope_positions: RefCell<Vec<P2<Slope<T>>>>,
     /// Indices into `out` of the isolated end points (`Piece::touch`).
     touches: Vec<usize>,
+    /// Per step: the type bits its base distance depends on (its
+    /// ancestors, [`Construction::ancestors`]) as a word; `None` past 128
+    /// steps, or where it depends on every earlier bit (no repeat possible).
+    depends: Vec<Option<u128>>,
+    /// Refinements by all they depend on (see [`RefineKey`]).
+    refined: IntMap<RefineKey, Refined<T>>,
 }
+
+/// What a refinement of a piece by step k depends on: k, the type bits k
+/// depends on, and the piece (its ends by id, first event and flat steps,
+/// and whether it is an isolated point). Two prefixes that differ only in
+/// bits step k does not read have the same d_k at every λ, bit for bit, so
+/// on the same piece the same roots, proofs and pieces: the second is the
+/// first's result, not a second sweep of the same questions.
+type RefineKey = (usize, u128, EndKey, EndKey, bool);
+
+/// An end in a [`RefineKey`]: its id, first event (whose bracket the proofs
+/// there rest on), and its flat steps by kind, bit i for step i.
+type EndKey = (usize, Option<Event>, u128, u128);
+
+/// A refinement's result, and what it added to the sweep's record.
+struct Refined<T> {
+    pieces: Vec<Piece<T>>,
+    notes: Vec<Note>,
+    estimated: usize,
+}
+
+/// A sweep keeps at most this many refinements (then starts afresh: a bound
+/// on memory; repeats come from the types just visited).
+const REFINED_KEPT: usize = 4096;
 
 /// Compute the oriented intervals of every type.
 pub fn cayley_space<T: Real>(
@@ -210,6 +246,20 @@ pub fn cayley_space<T: Real>(
     dec: &Decomposition,
     cx: &Complexity,
     method: Method,
+) -> CayleySpace<T> {
+    sweep(con, cert, jet, dec, cx, method, true)
+}
+
+/// [`cayley_space`], repeating refinements for prefixes that agree on the
+/// bits a step depends on (`reuse`) or refining each afresh.
+fn sweep<T: Real>(
+    con: &Construction<T>,
+    cert: &Certifier,
+    jet: Construction<Jet<T>>,
+    dec: &Decomposition,
+    cx: &Complexity,
+    method: Method,
+    reuse: bool,
 ) -> CayleySpace<T> {
     let n = con.steps.len();
     let inverter = Inverter { con, dec, cx };
@@ -248,6 +298,8 @@ pub fn cayley_space<T: Real>(
         slopes: OnceCell::new(),
         slope_positions: RefCell::new(Vec::new()),
         touches: Vec::new(),
+        depends: (0..n).map(|k| depends_word(con, k).filter(|_| reuse)).collect(),
+        refined: IntMap::default(),
     };
     // Start from (0, sentinel): every root of the first step lies below the sentinel.
     let top = (0..n)
@@ -287,7 +339,7 @@ impl<T: Real> Sweep<'_, T> {
         }
         let mut refined: Vec<Piece<T>> = Vec::new();
         for p in pieces {
-            refined.extend(self.refine(k, bits, p));
+            refined.extend(self.refine_once(k, bits, p));
         }
         if refined.is_empty() {
             return;
@@ -297,6 +349,37 @@ impl<T: Real> Sweep<'_, T> {
             self.descend(k + 1, bits, &refined);
             bits.pop();
         }
+    }
+
+    /// [`Self::refine`], or its result for an earlier prefix that agrees on
+    /// every bit step k depends on (see [`RefineKey`]), with the notes and
+    /// estimated decisions it recorded (so the record is the one a second
+    /// refinement would make).
+    fn refine_once(&mut self, k: usize, bits: &[bool], piece: &Piece<T>) -> Vec<Piece<T>> {
+        let Some(depends) = self.depends[k] else { return self.refine(k, bits, piece) };
+        let end = |e: &Endpoint<T>| {
+            let mask = |kind: Kind| e.events.iter().filter(|ev| ev.kind == kind).fold(0u128, |m, ev| m | 1 << ev.step);
+            (e.id, e.events.first().copied(), mask(Kind::Stretched), mask(Kind::Folded))
+        };
+        let word = bits[..k].iter().enumerate().fold(0u128, |w, (i, &b)| w | u128::from(b) << i);
+        let key = (k, word & depends, end(&piece.lo), end(&piece.hi), piece.touch);
+        if let Some(done) = self.refined.get(&key) {
+            self.notes.extend_from_slice(&done.notes);
+            self.cert.count_estimated(done.estimated);
+            return done.pieces.clone();
+        }
+        let (notes, estimated) = (self.notes.len(), self.cert.estimated());
+        let pieces = self.refine(k, bits, piece);
+        if self.refined.len() >= REFINED_KEPT {
+            self.refined.clear();
+        }
+        let done = Refined {
+            pieces: pieces.clone(),
+            notes: self.notes[notes..].to_vec(),
+            estimated: self.cert.estimated() - estimated,
+        };
+        self.refined.insert(key, done);
+        pieces
     }
 
     /// d_k at λ for the prefix `bits`, with its first and second derivative
@@ -641,6 +724,17 @@ impl<T: Real> Sweep<'_, T> {
     }
 }
 
+/// The bits before step k that d_k depends on, as a word (see
+/// [`Sweep::depends`]).
+fn depends_word<T: Real>(con: &Construction<T>, k: usize) -> Option<u128> {
+    if con.steps.len() > 128 {
+        return None;
+    }
+    let word = con.ancestors(k).iter().enumerate().fold(0u128, |w, (i, &a)| w | u128::from(a) << i);
+    let every = if k == 0 { 0 } else { u128::MAX >> (128 - k) };
+    (word != every).then_some(word)
+}
+
 /// The intervals without the isolated end points (`touches`) that repeat a
 /// realization another interval reaches at that end: where an interval of
 /// positive length ends at the point's root in a type one flat step away
@@ -695,4 +789,66 @@ pub fn union<T: Real>(intervals: &[OrientedInterval<T>], scale: f64) -> Vec<[f64
         }
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::complexity::four_cycle_test;
+    use crate::decompose::decompose;
+    use crate::linkage::Linkage;
+
+    /// The Peaucellier inversor: step 4 reads steps 2 and 3 only, so the
+    /// types differing in bit 1 repeat its refinements; a rhombus, so they
+    /// include coincident ends, degenerate gaps and a touch.
+    const PEAUCELLIER: &str = r#"
+base = ["O", "C"]
+bars = [["O", "A", 2.0], ["A", "C", 2.0], ["O", "B", 5.0], ["O", "D", 5.0],
+        ["C", "B", 3.0], ["B", "P", 3.0], ["P", "D", 3.0], ["D", "C", 3.0]]
+[joints]
+O = [0.0, 0.0]
+A = [2.0, 0.0]
+C = [3.285575219373, 1.532088886238]
+B = [2.385922501326, 4.394015682456]
+D = [4.899652718047, -0.996696163598]
+P = [4.0, 1.86523063262]
+"#;
+
+    /// On every base: the sweep that repeats refinements gives the
+    /// intervals (types, λ bit for bit, flat steps) and notes of the one
+    /// that refines every prefix afresh, and on some base it does repeat.
+    #[test]
+    fn repeated_refinements_are_the_fresh_ones() {
+        let scene = crate::scene::parse_scene(PEAUCELLIER, "test", "peaucellier").expect("parses");
+        let linkage = Linkage::from_scene(&scene);
+        let first = decompose(&linkage, None).expect("in the class").expect("a base");
+        let mut repeating = 0;
+        for base in std::iter::once(first.base).chain(first.other_bases(&linkage)) {
+            let dec = decompose(&linkage, Some(base)).expect("in the class").expect("valid base");
+            let cx = four_cycle_test(&dec);
+            let con = Construction::<f64>::new(&linkage, &dec).expect("closes");
+            let cert = Certifier::new(&linkage, &dec).expect("closes");
+            let run = |reuse| sweep(&con, &cert, con.convert::<Jet<f64>>(), &dec, &cx, Method::Exact, reuse);
+            let (fresh, reused) = (run(false), run(true));
+            let view = |s: &CayleySpace<f64>| {
+                s.intervals
+                    .iter()
+                    .map(|i| {
+                        (
+                            i.ty.clone(),
+                            i.lower.lambda.to_bits(),
+                            i.lower.events.clone(),
+                            i.upper.lambda.to_bits(),
+                            i.upper.events.clone(),
+                        )
+                    })
+                    .collect::<Vec<_>>()
+            };
+            assert!(!fresh.intervals.is_empty(), "base {base:?}");
+            assert_eq!(view(&fresh), view(&reused), "base {base:?}");
+            assert_eq!(fresh.notes, reused.notes, "base {base:?}");
+            repeating += usize::from((0..con.steps.len()).any(|k| depends_word(&con, k).is_some()));
+        }
+        assert!(repeating > 0, "some base has a step that does not read every earlier bit");
+    }
 }

@@ -495,6 +495,12 @@ impl Certifier {
         if y.abs() > error { if y > 0.0 { Sign::Positive } else { Sign::Negative } } else { Sign::Zero }
     }
 
+    /// Count `n` decisions again that rested on an estimate: the sweep's
+    /// refinements repeated for another type (each type's decision counts).
+    pub fn count_estimated(&self, n: usize) {
+        self.estimated.set(self.estimated.get() + n);
+    }
+
     /// How many decisions so far rested on an estimate (see `estimate`) rather than a proof.
     pub fn estimated(&self) -> usize {
         self.estimated.get()
