@@ -18,7 +18,7 @@ use criterion::{Criterion, criterion_group, criterion_main};
 
 /// The binary's allocator (see Cargo.toml), so these figures are `caymos bench`'s.
 #[global_allocator]
-static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
+static ALLOCATOR: caymos::alloc::Allocator = caymos::alloc::Allocator;
 
 fn small_scenes(c: &mut Criterion) {
     for name in ["fourbar-crank-rocker", "jansen", "limacon"] {

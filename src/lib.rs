@@ -9,6 +9,7 @@ pub use caymos_core::{
     linkage, minimal_vector, motion, numfmt, real, realize, roots, scene, sweep, tolerance,
 };
 
+pub mod alloc;
 pub mod bench;
 pub mod builder;
 pub mod bundled;

@@ -13,10 +13,10 @@ use caymos::report::Report;
 use caymos::scene::Scene;
 use caymos::schema::{ErrorBody, ErrorDoc, ErrorKind, ListDoc, ListedScene, SceneOrigin, Versioned};
 
-/// See Cargo.toml: small vectors per certified question made glibc's
+/// See Cargo.toml and [`caymos::alloc`]: small vectors per certified question made glibc's
 /// allocator about a fifth of a small scene's analysis.
 #[global_allocator]
-static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
+static ALLOCATOR: caymos::alloc::Allocator = caymos::alloc::Allocator;
 
 #[derive(Parser, Debug)]
 #[command(
