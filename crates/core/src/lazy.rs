@@ -19,7 +19,10 @@
 //! minimum at an end, a convex one lies above both end tangents. Only where
 //! no certificate holds is the step's own minimum (Newton on the slope) or
 //! inflection (bisection on the curvature) located. A sign change is a root,
-//! found by safeguarded Newton to full precision. Steps are examined in
+//! found by safeguarded Newton to full precision; a reading at or below zero
+//! within rounding of zero beside a step within rounding of flat (whose
+//! vertex f64 knows only to about √ε) is the certifier's to decide
+//! (`Walker::noise_below_zero`). Steps are examined in
 //! construction order and every root found pulls the gap's far end in, so a
 //! step is only examined where the steps before it close.
 //!
@@ -906,7 +909,7 @@ impl<'a, T: Real> Walker<'a, T> {
         // The plain sign change predicted first (from the slopes at the far
         // end) is located first: the other steps are then examined up to
         // it, and most never need a root of their own.
-        let first = self.first_crossing(near, right, dir, flat_at_near, known);
+        let first = self.first_crossing(bits, near, right, dir, flat_at_near, known);
         // The step (and kind) whose root the gap ends at: steps after it behave
         // like square roots there.
         let mut ends_at: Option<(usize, usize)> = None;
@@ -936,6 +939,14 @@ impl<'a, T: Real> Walker<'a, T> {
                 // roots at its end: only their values count here (the caller
                 // samples the approach to that root).
                 let s1 = if ends_at.is_some_and(|e| (k, i) > e) { Jet { d: T::from_f64(f64::NAN), ..s1 } } else { s1 };
+                // A reading at or below zero that is only f64's rounding beside
+                // a nearly flat earlier step, with the other end positive, is no root.
+                let noisy = |p: &Probe<T>, s: &Jet<T>| s.v <= T::zero() && self.noise_below_zero(bits, p, k, kind);
+                let (noisy0, noisy1) = (!entering && noisy(near, &s0), noisy(far, &s1));
+                let (positive0, positive1) = (noisy0 || s0.v > T::zero(), noisy1 || s1.v > T::zero());
+                if (noisy0 || noisy1) && positive0 && positive1 {
+                    continue;
+                }
                 let along = Along { bits, k, kind, dir };
                 let Some(root) = self.first_root(along, (near.lambda, s0), (far.lambda, s1), entering) else {
                     continue;
@@ -963,6 +974,7 @@ impl<'a, T: Real> Walker<'a, T> {
     /// and not rounding at a tangency. `None` without one.
     fn first_crossing(
         &self,
+        bits: &[bool],
         near: &Probe<T>,
         right: &Probe<T>,
         dir: T,
@@ -975,7 +987,10 @@ impl<'a, T: Real> Walker<'a, T> {
         for k in known..n {
             for (i, &kind) in self.kinds(k).iter().enumerate() {
                 let s1 = self.slack(k, kind, right.d[k], dir);
-                if s1.v.partial_cmp(&T::zero()) != Some(std::cmp::Ordering::Less) || self.rounding_at_tangency(s1) {
+                if s1.v.partial_cmp(&T::zero()) != Some(std::cmp::Ordering::Less)
+                    || self.rounding_at_tangency(s1)
+                    || self.noise_below_zero(bits, right, k, kind)
+                {
                     continue;
                 }
                 let s0 = self.slack(k, kind, near.d[k], dir);
@@ -1036,6 +1051,31 @@ impl<'a, T: Real> Walker<'a, T> {
     fn rounding_at_tangency(&self, s: Jet<T>) -> bool {
         let noise = T::from_f64(tolerance::TANGENCY_NOISE_ULPS * T::UNIT_ROUNDOFF * self.con.scale);
         finite(&s) && s.v >= -noise && s.d * s.d <= T::from_f64(2.0) * s.s.abs() * noise
+    }
+
+    /// Whether step k's slack for `kind` reads at or below zero at probe `p`
+    /// only through rounding: a step k depends on is within
+    /// [`tolerance::touch_noise`] of flat there (its vertex, and every joint
+    /// built on it, is then known only to about √ε), the slack is within
+    /// that of zero, and the certifier finds it positive at p. Such a
+    /// reading is no end (Peaucellier on base O–P, where a rhombus touches
+    /// stretched at λ = 4 and the next step's slack reads 0 beside it).
+    fn noise_below_zero(&self, bits: &[bool], p: &Probe<T>, k: usize, kind: Kind) -> bool {
+        let noise = tolerance::touch_noise(T::UNIT_ROUNDOFF) * self.con.scale;
+        let near_zero = |j: usize, kind: Kind| {
+            let s = &self.con.steps[j];
+            p.d.get(j).is_some_and(|d| kind.slack_value(s.r1, s.r2, d.v).to_f64().abs() <= noise)
+        };
+        if !near_zero(k, kind) {
+            return false;
+        }
+        let flat_before: Vec<usize> = (0..k).filter(|&j| self.kinds(j).iter().any(|&kj| near_zero(j, kj))).collect();
+        if flat_before.is_empty() {
+            return false;
+        }
+        let ancestors = self.con.ancestors(k);
+        flat_before.iter().any(|&j| ancestors[j])
+            && self.cert.slack_sign(bits, At { lambda: p.lambda.to_f64(), events: &[] }, k, kind) == Sign::Positive
     }
 
     /// Whether a slack with jet `s` at a (slope along the walk) is positive

@@ -25,6 +25,15 @@ pub fn tangent_slope(unit_roundoff: f64) -> f64 {
     1e-10 * (unit_roundoff / (f64::EPSILON / 2.0)).sqrt()
 }
 
+/// Within this (× scale) of flat, a step's vertex is known only to about
+/// √(unit roundoff) of the scale (its height is a square root of a slack
+/// at rounding level), and so is every later slack built on it: a later
+/// slack within this of zero beside it is not read as a sign by the lazy
+/// walk, which asks the certifier instead. For f64 about 1.7e-7.
+pub fn touch_noise(unit_roundoff: f64) -> f64 {
+    16.0 * unit_roundoff.sqrt()
+}
+
 /// The lazy walk halves a gap between its samples down to this width
 /// (× scale), and accepts an end once it lies within this of the sample
 /// before it: far below any feature a user draws, far above f64 resolution.
