@@ -209,7 +209,7 @@ pub struct RealizationOut {
 }
 
 /// The closest pair between two components with its certificate: the
-/// numbers are the solver's ([`Certificate`]); `certificate` says them in words.
+/// numbers are the solver's ([`Certificate`](crate::distance::Certificate)); `certificate` says them in words.
 #[derive(Debug, Clone, Serialize, JsonSchema)]
 pub struct ClosestOut {
     pub distance: f64,

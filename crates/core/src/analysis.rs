@@ -127,7 +127,7 @@ pub struct Solved {
 
 impl Solved {
     /// The minimal complete Cayley vector of the components computed so far
-    /// (see [`crate::minimal_vector`]).
+    /// (see [`crate::minimal_vector`](mod@crate::minimal_vector)).
     pub fn minimal_vector(&self, options: MinimalOptions) -> MinimalVector {
         let (con, ccv) = (&self.construction, &self.complexity.ccv);
         minimal_vector(con, &self.space, &self.components.list, ccv, self.mirrors, options)

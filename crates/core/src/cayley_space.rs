@@ -234,10 +234,6 @@ struct Refined<T> {
     estimated: usize,
 }
 
-/// A sweep keeps at most this many refinements (then starts afresh: a bound
-/// on memory; repeats come from the types just visited).
-const REFINED_KEPT: usize = 4096;
-
 /// Compute the oriented intervals of every type.
 pub fn cayley_space<T: Real>(
     con: &Construction<T>,
@@ -370,7 +366,7 @@ impl<T: Real> Sweep<'_, T> {
         }
         let (notes, estimated) = (self.notes.len(), self.cert.estimated());
         let pieces = self.refine(k, bits, piece);
-        if self.refined.len() >= REFINED_KEPT {
+        if self.refined.len() >= tolerance::REFINEMENTS_KEPT {
             self.refined.clear();
         }
         let done = Refined {

@@ -324,6 +324,12 @@ pub fn same_drawn_point(half_distance: f64, half_magnitude: f64, half_scale: f64
     half_distance <= COINCIDENT * half_scale || half_distance <= resolution
 }
 
+/// A sweep keeps at most this many refinements to repeat for prefixes that
+/// agree on the bits a step reads (`cayley_space::RefineKey`), then starts
+/// afresh: a bound on memory, not a decision (repeats come from the types
+/// just visited).
+pub const REFINEMENTS_KEPT: usize = 4096;
+
 /// A sweep keeps the realized prefixes of at most this many places
 /// (`certify::Prefixes`), then starts afresh: a bound on memory, not a decision.
 pub const PREFIX_PLACES: usize = 4096;
