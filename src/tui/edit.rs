@@ -1,7 +1,8 @@
 //! Edit mode: select a joint or a bar, move the joint or change the bar's
 //! length, by keys or typed values; undo and redo; save; reload when the
-//! file changes. Every change is a new text of the [`Document`], which the
-//! app re-analyses (see [`App::reanalyse`]).
+//! file changes. Every change is a new text of the
+//! [`Document`](super::document::Document), which the app re-analyses (see
+//! `App::reanalyse`).
 
 use crate::scene::Scene;
 use crate::tolerance;
