@@ -32,7 +32,7 @@ use crate::decompose::Decomposition;
 use crate::inthash::IntMap;
 use crate::invert::Inverter;
 use crate::real::{Jet, Real, Slope};
-use crate::realize::{Construction, Event, Kind, P2, RealizationType};
+use crate::realize::{Construction, Event, Kind, P2, RealizationType, bits_word};
 use crate::roots::{Endpoint, EndpointIds, Extremum, base_distance_at, bisect, cmp, cosine_sample, side_signs, sign};
 use crate::tolerance;
 
@@ -357,7 +357,7 @@ impl<T: Real> Sweep<'_, T> {
             let mask = |kind: Kind| e.events.iter().filter(|ev| ev.kind == kind).fold(0u128, |m, ev| m | 1 << ev.step);
             (e.id, e.events.first().copied(), mask(Kind::Stretched), mask(Kind::Folded))
         };
-        let word = bits[..k].iter().enumerate().fold(0u128, |w, (i, &b)| w | u128::from(b) << i);
+        let word = bits_word(&bits[..k]).expect("at most 128 steps where repeats are kept");
         let key = (k, word & depends, end(&piece.lo), end(&piece.hi), piece.touch);
         if let Some(done) = self.refined.get(&key) {
             self.notes.extend_from_slice(&done.notes);
@@ -726,7 +726,7 @@ fn depends_word<T: Real>(con: &Construction<T>, k: usize) -> Option<u128> {
     if con.steps.len() > 128 {
         return None;
     }
-    let word = con.ancestors(k).iter().enumerate().fold(0u128, |w, (i, &a)| w | u128::from(a) << i);
+    let word = bits_word(&con.ancestors(k))?;
     let every = if k == 0 { 0 } else { u128::MAX >> (128 - k) };
     (word != every).then_some(word)
 }

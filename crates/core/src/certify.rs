@@ -28,7 +28,7 @@ use crate::decompose::Decomposition;
 use crate::inthash::IntMap;
 use crate::linkage::Linkage;
 use crate::real::{Ball, Dd, Real, Slope};
-use crate::realize::{Construction, Event, Kind, P2};
+use crate::realize::{Construction, Event, Kind, P2, bits_word};
 use crate::tolerance;
 
 /// A proven sign; `Zero` when not even double-double separates the value
@@ -236,7 +236,7 @@ fn flat_mask(events: &[Event]) -> Option<u128> {
 
 /// The type bits before step `step` as one word (`None` past 128 steps).
 fn prefix_word(bits: &[bool], step: usize) -> Option<u128> {
-    (step <= 128).then(|| bits[..step].iter().enumerate().fold(0u128, |a, (i, &b)| a | (u128::from(b) << i)))
+    if step <= 128 { bits_word(&bits[..step]) } else { None }
 }
 
 /// The double-double constructions, built together on first use.

@@ -103,12 +103,9 @@ enum TypeKey {
 impl TypeKey {
     /// The key of `ty`, with bit `flip` flipped.
     fn of(ty: &RealizationType, flip: Option<usize>) -> TypeKey {
-        let bits = &ty.0;
-        if bits.len() <= 128 {
-            let packed = bits.iter().enumerate().fold(0u128, |a, (k, &b)| a | (u128::from(b) << k));
-            TypeKey::Packed(flip.map_or(packed, |k| packed ^ (1 << k)))
-        } else {
-            TypeKey::Bits(flip.map_or_else(|| bits.clone(), |k| ty.flipped(k).0))
+        match crate::realize::bits_word(&ty.0) {
+            Some(packed) => TypeKey::Packed(flip.map_or(packed, |k| packed ^ (1 << k))),
+            None => TypeKey::Bits(flip.map_or_else(|| ty.0.clone(), |k| ty.flipped(k).0)),
         }
     }
 }

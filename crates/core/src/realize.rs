@@ -47,6 +47,12 @@ fn unit<T: Real>(p: P2<T>) -> P2<T> {
     [p[0] / n, p[1] / n]
 }
 
+/// `bits` as one word, bit i for `bits[i]`; `None` past 128 bits. The
+/// packed form of a type or prefix that the solver's caches key by.
+pub fn bits_word(bits: &[bool]) -> Option<u128> {
+    (bits.len() <= 128).then(|| bits.iter().enumerate().fold(0u128, |w, (i, &b)| w | u128::from(b) << i))
+}
+
 /// A realization type: one orientation bit per step, `true` = `+`.
 #[derive(Clone, PartialEq, Eq, Hash, PartialOrd, Ord, Debug)]
 pub struct RealizationType(pub Vec<bool>);
