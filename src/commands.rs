@@ -868,7 +868,8 @@ pub struct SweepSampleOut {
     pub cayley_space: Vec<[f64; 2]>,
     pub oriented_intervals: usize,
     pub components: Vec<ComponentSizeOut>,
-    /// Only the drawn component was computed (a scene above 2^16 types).
+    /// Only the drawn component was computed (a scene above 2^16 types or
+    /// whose full sweep is estimated above its budget).
     pub lazy: bool,
     /// Decisions of the analysis resting on a double-double estimate, not a proof.
     pub estimated_decisions: usize,
@@ -1063,6 +1064,13 @@ impl SweepReport {
         if let Some(bar) = &self.input_bar {
             let _ = writeln!(o, "Input bar {bar}: turns = components along which it turns fully / components");
         }
+        if self.samples.iter().any(|s| s.lazy) {
+            let _ = writeln!(
+                o,
+                "Lazy analysis of every sample (the scene as given has more than 2^16 types, or its full sweep is \
+                 estimated above its budget): comps counts the component through the drawn realization only"
+            );
+        }
         let _ = writeln!(o);
         let header = format!(
             "{:>6} {:<11} {:<14} {:>5} {:>4} {:<8} {:<20}{}",
@@ -1187,7 +1195,8 @@ impl SweepReport {
                 nearest.map(|s| (s.components.len(), s.class))
             })
             .collect();
-        o.push(format!("Components over {} (█: that many components; x: no Cayley space):", self.parameter));
+        let lazy = if self.samples.iter().any(|s| s.lazy) { "; lazy: the drawn one's only" } else { "" };
+        o.push(format!("Components over {} (█: that many components{lazy}; x: no Cayley space):", self.parameter));
         for row in (1..=max.max(1)).rev() {
             let line: String = counts
                 .iter()

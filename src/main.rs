@@ -63,8 +63,9 @@ struct AnalysisArgs {
     #[arg(long)]
     base: Option<String>,
     /// The full analysis (every type), so component numbers follow `report --all`.
-    /// Without it, scenes with more than 2^16 types are analysed lazily and
-    /// further components are walked on demand.
+    /// Without it, scenes with more than 2^16 types, or whose full sweep is
+    /// estimated above its budget, are analysed lazily and further
+    /// components are walked on demand.
     #[arg(long)]
     all: bool,
 }
@@ -115,7 +116,9 @@ enum Command {
         base: Option<String>,
         /// The full analysis (every type, every component) and every oriented
         /// interval in the text, however many. Without it, scenes with more
-        /// than 2^16 types get the lazy analysis (the drawn component only).
+        /// than 2^16 types, or whose full sweep is estimated above its budget
+        /// (the report gives both numbers), get the lazy analysis (the drawn
+        /// component only).
         #[arg(long)]
         all: bool,
         /// The lazy analysis (the component through the drawn realization)
@@ -507,7 +510,7 @@ fn run(command: Command) -> Result<u8, Failure> {
             let shard = commands::Shard::parse(&shard).map_err(arg_error)?;
             let input =
                 input_bar.map(|b| commands::input_bar(&scene, &b, "--input-bar")).transpose().map_err(arg_error)?;
-            let setup = caymos::sweep::Setup { scene, parameter, base, input };
+            let setup = caymos::sweep::Setup::new(scene, parameter, base, input);
             let report = commands::sweep_report(&setup, from, to, steps, shard);
             match format {
                 Format::Json => emit(&format!("{}\n", Versioned::new(&report).to_json())),

@@ -510,8 +510,17 @@ pub fn lazy_note(s: &crate::analysis::Solved) -> Option<String> {
         return None;
     }
     let n = s.components.list.len();
+    let budget = crate::tolerance::SWEEP_COST_MAX;
+    let why = match s.sweep_estimate {
+        Some(cost) if cost > budget => format!(
+            "; a full sweep is estimated at {} realization steps, above the budget of {}",
+            fmt_num(cost),
+            fmt_num(budget)
+        ),
+        _ => String::new(),
+    };
     Some(format!(
-        "lazy analysis ({} steps): {n} component{} walked: the drawn realization's{}; `--component K` walks more, `--all` analyses every type (component numbers then follow `report --all`)",
+        "lazy analysis ({} steps{why}): {n} component{} walked: the drawn realization's{}; `--component K` walks more, `--all` analyses every type (component numbers then follow `report --all`)",
         s.dec.steps.len(),
         if n == 1 { "" } else { "s" },
         if n > 1 {

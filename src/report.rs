@@ -147,7 +147,8 @@ pub enum AnalysisKind {
     /// Every type and every component.
     Full,
     /// Only the component through the drawn realization (more than 2^16
-    /// types, or `--lazy`; `--all` forces full).
+    /// types, a full sweep estimated above its budget (`sweep_estimate`),
+    /// or `--lazy`; `--all` forces full).
     Lazy,
 }
 
@@ -249,6 +250,11 @@ pub struct Report {
     pub drawn: Option<DrawnReport>,
     pub sketch: Option<SketchReport>,
     pub analysis: AnalysisKind,
+    /// The full sweep's estimated cost in realization steps, where it was
+    /// estimated; above `sweep_budget` the analysis is lazy unless `--all`.
+    pub sweep_estimate: Option<f64>,
+    /// The budget `sweep_estimate` is held to.
+    pub sweep_budget: f64,
     /// The non-oriented Cayley configuration space: disjoint closed intervals
     /// (in a lazy analysis: the λ range of the components computed).
     pub cayley_space: Vec<[f64; 2]>,
@@ -303,6 +309,8 @@ impl Report {
             drawn: None,
             sketch: None,
             analysis: AnalysisKind::Full,
+            sweep_estimate: None,
+            sweep_budget: crate::tolerance::SWEEP_COST_MAX,
             cayley_space: Vec::new(),
             oriented_intervals: Vec::new(),
             endpoint_method: None,
@@ -386,6 +394,7 @@ impl Report {
                     })
                     .collect();
                 r.analysis = if s.lazy { AnalysisKind::Lazy } else { AnalysisKind::Full };
+                r.sweep_estimate = s.sweep_estimate;
                 r.endpoint_method = Some(if s.lazy {
                     EndpointMethod::Lazy
                 } else if s.space.numeric_steps.is_empty() {
@@ -530,9 +539,17 @@ impl Report {
         let n_types_text = if n_types == usize::MAX { format!("2^{}", self.steps.len()) } else { n_types.to_string() };
         let lazy = self.analysis == AnalysisKind::Lazy;
         if lazy {
+            let why = match self.sweep_estimate {
+                Some(cost) if cost > self.sweep_budget => format!(
+                    ": a full sweep is estimated at {} realization steps, above the budget of {}",
+                    fmt_num(cost),
+                    fmt_num(self.sweep_budget)
+                ),
+                _ => String::new(),
+            };
             let _ = writeln!(
                 o,
-                "{:<24}lazy: only the component through the drawn realization ({n_types_text} types not enumerated; --all forces the full analysis)",
+                "{:<24}lazy: only the component through the drawn realization ({n_types_text} types not enumerated{why}; --all forces the full analysis)",
                 "Analysis"
             );
         }

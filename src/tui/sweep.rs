@@ -231,7 +231,7 @@ impl App {
         match s.swept.parameter(&scene) {
             Some(parameter) => {
                 s.pending = true;
-                let setup = Setup { scene, parameter, base, input };
+                let setup = Setup::new(scene, parameter, base, input);
                 self.sweep_job = Some(Job::sweep(s.id, setup, s.from, s.to, s.steps));
             }
             None => s.error = Some(format!("{} (undo brings it back)", s.swept.gone(&scene))),

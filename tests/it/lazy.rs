@@ -181,6 +181,46 @@ fn analyse_goes_lazy_above_2_pow_16_types_and_says_so() {
     }
 }
 
+/// The sweep's estimate in closed form: a four-bar's two steps are on the
+/// base with one stretched and one folded candidate each and read no bits:
+/// (2 + 1) questions realizing 1 step, then (2 + 1) realizing 2: 9.
+/// The Limacon's: 3 + 6 + 2·3·3 (step 3 reads one bit) + 4·9·4 (step 4
+/// reads two, eight candidates) = 171.
+#[test]
+fn sweep_estimate_is_the_closed_form_count() {
+    for (name, want) in [("fourbar-crank-rocker", 9.0), ("limacon", 171.0)] {
+        let s = analyse(bundled::load(name).unwrap(), None).unwrap().outcome.unwrap();
+        assert_eq!(s.sweep_estimate, Some(want), "{name}");
+        assert!(!s.lazy, "{name}");
+    }
+}
+
+/// A generated 11-step chain has 2^11 types, under the step limit, but its
+/// closed-form candidates multiply (120 at step 11): `Auto` estimates the
+/// sweep above its budget and walks the drawn component instead, and the
+/// report says why. A 4-legged Strandbeest (13 steps) stays full.
+#[test]
+fn auto_goes_lazy_where_the_sweep_is_estimated_above_its_budget() {
+    let budget = caymos::tolerance::SWEEP_COST_MAX;
+    let a = analyse(chain(11), None).unwrap();
+    let s = a.outcome.as_ref().unwrap();
+    assert!(s.dec.steps.len() <= LAZY_ABOVE_STEPS);
+    let cost = s.sweep_estimate.expect("estimated within the step limit");
+    assert!(cost > budget, "{cost}");
+    assert!(s.lazy);
+    assert_eq!(s.components.list.len(), 1);
+    let text = caymos::report::Report::new(&a).to_text_with(false);
+    assert!(text.contains("above the budget"), "{text}");
+    // A sweep decides once, as `Auto` does for the scene as given.
+    assert_eq!(caymos::analysis::auto_scope(&chain(11), None), Scope::Lazy);
+    assert_eq!(caymos::analysis::auto_scope(&chain(8), None), Scope::Full);
+    let beest = analyse(strandbeest(4), None).unwrap().outcome.unwrap();
+    assert!(beest.sweep_estimate.is_some_and(|c| c <= budget) && !beest.lazy);
+    // `--all` (Scope::Full) estimates too, for the report, and always sweeps.
+    let small = analyse_with(chain(8), None, Scope::Full).unwrap().outcome.unwrap();
+    assert!(!small.lazy && small.sweep_estimate.is_some_and(|c| c <= budget));
+}
+
 #[test]
 fn lazy_scope_equals_full_scope_and_include_walks_other_components() {
     for name in ["jansen", "limacon", "fourbar-non-grashof"] {

@@ -184,12 +184,12 @@ proptest! {
         expected.sort_by(f64::total_cmp);
         // Two changes within one sample gap may cancel; keep the cases where they cannot.
         prop_assume!(expected.windows(2).all(|w| w[1] - w[0] > 2.0 * spacing));
-        let setup = Setup {
-            scene: caymos::generate::four_bar(1.0, b, c, d),
-            parameter: Parameter::BarLength(0),
-            base: None,
-            input: Some(InputBar { pivot: 0, tip: 1, reference: 3 }),
-        };
+        let setup = Setup::new(
+            caymos::generate::four_bar(1.0, b, c, d),
+            Parameter::BarLength(0),
+            None,
+            Some(InputBar { pivot: 0, tip: 1, reference: 3 }),
+        );
         let (samples, transitions) = sweep(&setup, from, to, steps, Shard::ALL);
         prop_assert_eq!(samples.len(), steps);
         let found: Vec<f64> = transitions.iter().filter(|t| !t.changes.is_empty()).map(|t| t.value).collect();
@@ -229,12 +229,7 @@ proptest! {
 
 /// The crank-rocker with bar A–B's length swept.
 fn crank_rocker_ab() -> Setup {
-    Setup {
-        scene: caymos::bundled::load("fourbar-crank-rocker").unwrap(),
-        parameter: Parameter::BarLength(0),
-        base: None,
-        input: None,
-    }
+    Setup::new(caymos::bundled::load("fourbar-crank-rocker").unwrap(), Parameter::BarLength(0), None, None)
 }
 
 #[test]
@@ -315,4 +310,23 @@ fn the_self_check_keeps_the_structure_of_every_bundled_scene() {
         }
     }
     assert!(checked_some >= 10, "the self-check ran on {checked_some} scenes");
+}
+
+/// Every sample of a sweep gets the analysis `Auto` gives the scene as given
+/// (here lazy: more than 2^16 types), and the text and chart say that the
+/// component counts are the drawn component's only; a four-bar's are full.
+#[test]
+fn a_lazy_sweep_is_lazy_throughout_and_says_so() {
+    let chain = caymos::generate::chain(caymos::analysis::LAZY_ABOVE_STEPS + 1);
+    let setup = Setup::new(chain, Parameter::BarLength(0), None, None);
+    assert_eq!(setup.scope, caymos::analysis::Scope::Lazy);
+    let r = caymos::commands::sweep_report(&setup, 0.95, 1.05, 2, Shard::ALL);
+    assert!(r.samples.iter().all(|s| s.lazy && s.components.len() == 1), "{:#?}", r.samples);
+    assert!(r.to_text().contains("Lazy analysis of every sample"));
+    assert!(r.chart(80, None)[0].contains("lazy: the drawn one's only"));
+    let full = crank_rocker_ab();
+    assert_eq!(full.scope, caymos::analysis::Scope::Full);
+    let r = caymos::commands::sweep_report(&full, 0.2, 2.0, 2, Shard::ALL);
+    assert!(r.samples.iter().all(|s| !s.lazy));
+    assert!(!r.to_text().contains("lazy"));
 }

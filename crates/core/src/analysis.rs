@@ -3,7 +3,9 @@
 
 use std::time::Instant;
 
-use crate::cayley_space::{CayleySpace, Method, Note, OrientedInterval, cayley_space, union};
+use crate::cayley_space::{
+    CayleySpace, Method, Note, OrientedInterval, SweepPlan, cayley_space, cayley_space_planned, union,
+};
 use crate::cayley_vector::{Mirrors, mirror_images};
 use crate::certify::Certifier;
 use crate::complexity::{Complexity, four_cycle_test};
@@ -65,7 +67,8 @@ pub struct Accuracy {
 pub const REFERENCE_MAX_TYPES: usize = 1 << 12;
 
 /// Scenes with more construction steps than this (more than 2^16 types) get
-/// the lazy analysis unless the full one is asked for.
+/// the lazy analysis unless the full one is asked for; so do smaller ones
+/// whose full sweep is estimated above [`crate::tolerance::SWEEP_COST_MAX`].
 pub const LAZY_ABOVE_STEPS: usize = 16;
 
 /// The lazy analysis checks itself up to this many steps, by refining its
@@ -78,7 +81,9 @@ pub const LAZY_REFERENCE_MAX_STEPS: usize = 4096;
 /// How much of the realization space to compute.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Scope {
-    /// Every type when there are at most 2^[`LAZY_ABOVE_STEPS`], else lazy.
+    /// Every type when there are at most 2^[`LAZY_ABOVE_STEPS`] and the
+    /// sweep's estimated cost is within [`crate::tolerance::SWEEP_COST_MAX`],
+    /// else lazy.
     Auto,
     /// Every type's intervals and every component, however many.
     Full,
@@ -123,6 +128,10 @@ pub struct Solved {
     /// (`space` then holds their intervals, each component's sorted by type,
     /// and `union` is their λ range, not the whole Cayley space).
     pub lazy: bool,
+    /// The full sweep's estimated cost in realization steps
+    /// ([`SweepPlan::cost`]), where it was estimated (a full analysis, or
+    /// `Scope::Auto` within [`LAZY_ABOVE_STEPS`]).
+    pub sweep_estimate: Option<f64>,
 }
 
 impl Solved {
@@ -594,6 +603,32 @@ pub fn analyse(scene: Scene, base_override: Option<[usize; 2]>) -> Result<Analys
     analyse_with(scene, base_override, Scope::Auto)
 }
 
+/// Whether `Scope::Auto` sweeps every type of a scene within
+/// [`LAZY_ABOVE_STEPS`]: the sweep's estimated cost is within its budget.
+fn affordable(plan: &SweepPlan<f64>) -> bool {
+    plan.cost() <= crate::tolerance::SWEEP_COST_MAX
+}
+
+/// What `Scope::Auto` comes to for `scene` (on `base_override`, else its
+/// own base or the chosen one): `Full` or `Lazy`, from the recognition and
+/// the sweep's estimate alone. `Auto` where the scene cannot be recognised
+/// (the analysis says why). For callers that give many variants of one
+/// scene the same analysis, so that their results compare (a sweep's
+/// samples: their candidates, so their estimates, vary with the lengths).
+pub fn auto_scope(scene: &Scene, base_override: Option<[usize; 2]>) -> Scope {
+    let linkage = Linkage::from_scene(scene);
+    let Ok(Ok(dec)) = decompose(&linkage, base_override.or(scene.base.map(|b| b.0))) else { return Scope::Auto };
+    if dec.steps.len() > LAZY_ABOVE_STEPS {
+        return Scope::Lazy;
+    }
+    let Ok(con) = Construction::<f64>::new(&linkage, &dec) else { return Scope::Auto };
+    if affordable(&SweepPlan::new(&con, &dec, &four_cycle_test(&dec), Method::Exact)) {
+        Scope::Full
+    } else {
+        Scope::Lazy
+    }
+}
+
 /// Whether an analysis checks itself against the double-double reference.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum SelfCheck {
@@ -655,14 +690,18 @@ pub fn analyse_checked(
     let drawn = drawn_realization(&linkage, &dec);
     warnings.extend(drawn.flat_steps.iter().map(|&step| Warning::FlatInDrawing { step }));
     // A sketch whose drawn λ its type cannot reach has no start for the walk:
-    // small ones get the full analysis (which relocates the drawing from its
-    // intervals), large ones a sampled search for a start.
+    // small ones get the full analysis where it is affordable (it relocates
+    // the drawing from its intervals), others a sampled search for a start.
     let unreachable_sketch = scene.is_sketch() && construction.realize(drawn.lambda, &drawn.ty).is_err();
-    let lazy = match scope {
-        Scope::Auto => dec.steps.len() > LAZY_ABOVE_STEPS,
-        Scope::Full => false,
-        Scope::Lazy => !(unreachable_sketch && dec.steps.len() <= LAZY_ABOVE_STEPS),
+    let plan = || SweepPlan::new(&construction, &dec, &complexity, Method::Exact);
+    let plan = match scope {
+        Scope::Auto => (dec.steps.len() <= LAZY_ABOVE_STEPS).then(plan),
+        Scope::Full => Some(plan()),
+        Scope::Lazy => (unreachable_sketch && dec.steps.len() <= LAZY_ABOVE_STEPS).then(plan),
     };
+    let sweep_estimate = plan.as_ref().map(SweepPlan::cost);
+    let plan = plan.filter(|p| scope == Scope::Full || affordable(p));
+    let lazy = plan.is_none();
     let mut space = if lazy {
         timings.time("lazy_component", || {
             let jet = construction.convert::<Jet<f64>>();
@@ -684,14 +723,8 @@ pub fn analyse_checked(
         })
     } else {
         timings.time("cayley_space", || {
-            cayley_space(
-                &construction,
-                &certifier,
-                construction.convert::<Jet<f64>>(),
-                &dec,
-                &complexity,
-                Method::Exact,
-            )
+            let plan = plan.expect("a full analysis has its plan");
+            cayley_space_planned(&construction, &certifier, construction.convert::<Jet<f64>>(), plan)
         })
     };
     let accuracy = if check == SelfCheck::Skip {
@@ -785,6 +818,7 @@ pub fn analyse_checked(
         drawn_interval,
         drawn_component,
         lazy,
+        sweep_estimate,
     };
     Ok(Analysis { scene, linkage, outcome: Ok(solved), warnings, timings })
 }

@@ -234,6 +234,73 @@ struct Refined<T> {
     estimated: usize,
 }
 
+/// What a sweep knows before it starts: each step's closed-form candidates
+/// and the type bits its base distance reads. Built first so that its
+/// estimated cost ([`SweepPlan::cost`]) can decide whether to sweep at all.
+#[derive(Clone, Debug)]
+pub struct SweepPlan<T> {
+    method: Method,
+    /// Per step: closed-form candidates for [stretched, folded], or `None` to search numerically.
+    exact: Vec<Option<[Vec<T>; 2]>>,
+    numeric_steps: Vec<usize>,
+    /// Per step: the bits of the steps it depends on ([`Construction::ancestors`])
+    /// as a word; `None` past 128 steps.
+    reads: Vec<Option<u128>>,
+}
+
+impl<T: Real> SweepPlan<T> {
+    /// The plan for a sweep by `method`: closed-form candidates where the
+    /// step is on the base or (exact method) has a carrier.
+    pub fn new(con: &Construction<T>, dec: &Decomposition, cx: &Complexity, method: Method) -> Self {
+        let inverter = Inverter { con, dec, cx };
+        let mut numeric_steps = Vec::new();
+        let exact = (0..con.steps.len())
+            .map(|k| {
+                let closed_form = con.on_base(k) || (matches!(method, Method::Exact) && cx.carriers[k].is_some());
+                if !closed_form {
+                    numeric_steps.push(k);
+                    return None;
+                }
+                let s = &con.steps[k];
+                Some([inverter.candidates(k, s.r1 + s.r2), inverter.candidates(k, (s.r1 - s.r2).abs())])
+            })
+            .collect();
+        let reads = (0..con.steps.len())
+            .map(|k| if con.steps.len() > 128 { None } else { bits_word(&con.ancestors(k)) })
+            .collect();
+        SweepPlan { method, exact, numeric_steps, reads }
+    }
+
+    /// The sweep's estimated cost in realization steps: for each step k
+    /// (counting from 1), one question per closed-form candidate and one
+    /// per piece (or per sample where the step is searched numerically),
+    /// each realizing k steps, asked once per setting of the bits k reads
+    /// (other prefixes repeat the answers). An estimate of work, known
+    /// before any of it is done: it decides how much to compute, never a
+    /// question about the mechanism. Saturates at `f64::INFINITY`.
+    pub fn cost(&self) -> f64 {
+        let samples = self.samples() as f64;
+        (0..self.exact.len())
+            .map(|k| {
+                let read = self.reads[k].map_or(k as u32, u128::count_ones);
+                let questions = match &self.exact[k] {
+                    Some([a, b]) => (a.len() + b.len()) as f64 + 1.0,
+                    None => samples + 1.0,
+                };
+                2f64.powi(read as i32) * questions * (k + 1) as f64
+            })
+            .sum()
+    }
+
+    /// Samples per piece of the numeric search.
+    fn samples(&self) -> usize {
+        match self.method {
+            Method::Numeric { samples, .. } => samples.max(4),
+            Method::Exact => 32,
+        }
+    }
+}
+
 /// Compute the oriented intervals of every type.
 pub fn cayley_space<T: Real>(
     con: &Construction<T>,
@@ -243,38 +310,31 @@ pub fn cayley_space<T: Real>(
     cx: &Complexity,
     method: Method,
 ) -> CayleySpace<T> {
-    sweep(con, cert, jet, dec, cx, method, true)
+    cayley_space_planned(con, cert, jet, SweepPlan::new(con, dec, cx, method))
 }
 
-/// [`cayley_space`], repeating refinements for prefixes that agree on the
-/// bits a step depends on (`reuse`) or refining each afresh.
+/// [`cayley_space`] from a plan already made (for its cost).
+pub fn cayley_space_planned<T: Real>(
+    con: &Construction<T>,
+    cert: &Certifier,
+    jet: Construction<Jet<T>>,
+    plan: SweepPlan<T>,
+) -> CayleySpace<T> {
+    sweep(con, cert, jet, plan, true)
+}
+
+/// [`cayley_space_planned`], repeating refinements for prefixes that agree
+/// on the bits a step depends on (`reuse`) or refining each afresh.
 fn sweep<T: Real>(
     con: &Construction<T>,
     cert: &Certifier,
     jet: Construction<Jet<T>>,
-    dec: &Decomposition,
-    cx: &Complexity,
-    method: Method,
+    plan: SweepPlan<T>,
     reuse: bool,
 ) -> CayleySpace<T> {
     let n = con.steps.len();
-    let inverter = Inverter { con, dec, cx };
-    let mut numeric_steps = Vec::new();
-    let exact: Vec<Option<[Vec<T>; 2]>> = (0..n)
-        .map(|k| {
-            let closed_form = con.on_base(k) || (matches!(method, Method::Exact) && cx.carriers[k].is_some());
-            if !closed_form {
-                numeric_steps.push(k);
-                return None;
-            }
-            let s = &con.steps[k];
-            Some([inverter.candidates(k, s.r1 + s.r2), inverter.candidates(k, (s.r1 - s.r2).abs())])
-        })
-        .collect();
-    let samples = match method {
-        Method::Numeric { samples, .. } => samples.max(4),
-        Method::Exact => 32,
-    };
+    let samples = plan.samples();
+    let SweepPlan { method, exact, numeric_steps, reads } = plan;
     let root_tol = match method {
         Method::Numeric { tol, .. } => T::from_f64(tol.max(0.0) * con.scale),
         Method::Exact => T::zero(),
@@ -294,7 +354,7 @@ fn sweep<T: Real>(
         slopes: OnceCell::new(),
         slope_positions: RefCell::new(Vec::new()),
         touches: Vec::new(),
-        depends: (0..n).map(|k| depends_word(con, k).filter(|_| reuse)).collect(),
+        depends: reads.iter().enumerate().map(|(k, &w)| repeatable(k, w).filter(|_| reuse)).collect(),
         refined: IntMap::default(),
     };
     // Start from (0, sentinel): every root of the first step lies below the sentinel.
@@ -720,15 +780,12 @@ impl<T: Real> Sweep<'_, T> {
     }
 }
 
-/// The bits before step k that d_k depends on, as a word (see
+/// `reads`, the bits before step k that d_k depends on, where it leaves
+/// some out (else no prefix can repeat another's refinement; see
 /// [`Sweep::depends`]).
-fn depends_word<T: Real>(con: &Construction<T>, k: usize) -> Option<u128> {
-    if con.steps.len() > 128 {
-        return None;
-    }
-    let word = bits_word(&con.ancestors(k))?;
+fn repeatable(k: usize, reads: Option<u128>) -> Option<u128> {
     let every = if k == 0 { 0 } else { u128::MAX >> (128 - k) };
-    (word != every).then_some(word)
+    reads.filter(|&w| w != every)
 }
 
 /// The intervals without the isolated end points (`touches`) that repeat a
@@ -824,7 +881,8 @@ P = [4.0, 1.86523063262]
             let cx = four_cycle_test(&dec);
             let con = Construction::<f64>::new(&linkage, &dec).expect("closes");
             let cert = Certifier::new(&linkage, &dec).expect("closes");
-            let run = |reuse| sweep(&con, &cert, con.convert::<Jet<f64>>(), &dec, &cx, Method::Exact, reuse);
+            let plan = SweepPlan::new(&con, &dec, &cx, Method::Exact);
+            let run = |reuse| sweep(&con, &cert, con.convert::<Jet<f64>>(), plan.clone(), reuse);
             let (fresh, reused) = (run(false), run(true));
             let view = |s: &CayleySpace<f64>| {
                 s.intervals
@@ -843,7 +901,7 @@ P = [4.0, 1.86523063262]
             assert!(!fresh.intervals.is_empty(), "base {base:?}");
             assert_eq!(view(&fresh), view(&reused), "base {base:?}");
             assert_eq!(fresh.notes, reused.notes, "base {base:?}");
-            repeating += usize::from((0..con.steps.len()).any(|k| depends_word(&con, k).is_some()));
+            repeating += usize::from(plan.reads.iter().enumerate().any(|(k, &w)| repeatable(k, w).is_some()));
         }
         assert!(repeating > 0, "some base has a step that does not read every earlier bit");
     }

@@ -21,7 +21,7 @@
 //! seen (more samples find it); at most [`MAX_SPLITS`] intermediate
 //! structures are followed in one sample gap.
 
-use crate::analysis::{Scope, SelfCheck, Solved, analyse_checked, no_realization};
+use crate::analysis::{Scope, SelfCheck, Solved, analyse_checked, auto_scope, no_realization};
 use crate::decompose::Outside;
 use crate::linkage::Linkage;
 use crate::motion::{Stepper, component_segments};
@@ -137,6 +137,19 @@ pub struct Setup {
     pub base: Option<[usize; 2]>,
     /// The bar whose full turns are counted, if any.
     pub input: Option<InputBar>,
+    /// The analysis every sample gets, `Full` or `Lazy` as `Scope::Auto`
+    /// gives the scene as given ([`auto_scope`]): samples compare only
+    /// when all are analysed alike, and `Auto`'s choice can vary with the
+    /// lengths (through the sweep's estimate).
+    pub scope: Scope,
+}
+
+impl Setup {
+    /// The setup of a sweep of `parameter` over `scene`, its scope decided once.
+    pub fn new(scene: Scene, parameter: Parameter, base: Option<[usize; 2]>, input: Option<InputBar>) -> Self {
+        let scope = auto_scope(&scene, base);
+        Setup { scene, parameter, base, input, scope }
+    }
 }
 
 /// The class of a sample, as data.
@@ -395,7 +408,7 @@ pub fn sample(setup: &Setup, value: f64) -> SweepSample {
             structure,
         }
     };
-    let analysis = match analyse_checked(scene, setup.base, Scope::Auto, SelfCheck::Skip) {
+    let analysis = match analyse_checked(scene, setup.base, setup.scope, SelfCheck::Skip) {
         Err(e) => return empty(Class::Invalid(e.message)),
         Ok(a) => a,
     };

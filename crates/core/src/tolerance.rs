@@ -330,6 +330,13 @@ pub fn same_drawn_point(half_distance: f64, half_magnitude: f64, half_scale: f64
 /// just visited).
 pub const REFINEMENTS_KEPT: usize = 4096;
 
+/// `Scope::Auto` sweeps every type only where the sweep's estimated cost
+/// (`cayley_space::SweepPlan::cost`, in realization steps) is at most this,
+/// about a second on this project's machine (a generated 10-step chain
+/// is 3.9e5, an 11-step one 1.8e6, a four-legged Strandbeest 1.9e3); above it the lazy walk.
+/// A budget on work, not a decision about the mechanism.
+pub const SWEEP_COST_MAX: f64 = 5e5;
+
 /// A sweep keeps the realized prefixes of at most this many places
 /// (`certify::Prefixes`), then starts afresh: a bound on memory, not a decision.
 pub const PREFIX_PLACES: usize = 4096;
