@@ -547,6 +547,10 @@ impl<T: Real> Sweep<'_, T> {
             let from_ends =
                 if n_gaps == 1 { end_closes(ends[0]).filter(|&c| Some(c) == end_closes(ends[1])) } else { None };
             let proven = from_ends.or_else(|| self.gap_closes(k, bits, a, b));
+            let proven = proven.or_else(|| {
+                let between = (g > 0 && g < n_gaps - 1).then(|| [inside[g - 1], inside[g]])?;
+                self.gap_between_non_roots(k, bits, between)
+            });
             let slot = proven.unwrap_or_else(|| {
                 let from_left = if g == 0 { at_lo.first().map(|r| r.right) } else { Some(inside[g - 1].right) };
                 let from_right = if g == n_gaps - 1 { at_hi.first().map(|r| r.left) } else { Some(inside[g].left) };
@@ -646,6 +650,25 @@ impl<T: Real> Sweep<'_, T> {
             }
             Closes::Unknown => None,
         }
+    }
+
+    /// A gap between two candidates whose midpoint the certifier cannot
+    /// decide (the slack there is zero to double-double resolution) where
+    /// step k is proven to close at both candidates, so neither is a root of
+    /// the scene as written: the gap is feasible, and the slack's zero inside
+    /// it is a touch from above (noted as a tangency, a non-generic place).
+    /// This is where an exact touch in the lengths as written splits into two
+    /// f64 roots about √ε apart once the lengths are rounded to f64
+    /// (Peaucellier on base O–P written at 1e150). A touch from below is an
+    /// isolated point, found by the slopes at the roots as before (`None`).
+    fn gap_between_non_roots(&mut self, k: usize, bits: &[bool], [r1, r2]: [Root<T>; 2]) -> Option<bool> {
+        let closes = |s: &mut Self, r: Root<T>| s.cert.closes(Some(&mut s.prefixes), bits, r.lambda.to_f64(), k);
+        if r1.kind != r2.kind || closes(self, r1) != Closes::Yes || closes(self, r2) != Closes::Yes {
+            return None;
+        }
+        let lambda = ((r1.lambda + r2.lambda) / T::from_f64(2.0)).to_f64();
+        self.notes.push(Note::Tangency { lambda, event: Event { step: k, kind: r1.kind }, inside: true });
+        Some(true)
     }
 
     /// An isolated point from earlier steps survives step k if k closes
