@@ -218,7 +218,11 @@ proptest! {
 
     /// Random 1-dof linkages built by random steps (with and without
     /// triangles) are recognised, and realizing their drawn (λ, type)
-    /// reproduces every drawn joint to 1e-12 of the scene size.
+    /// reproduces every drawn joint to 1e-10 of the scene size. The lengths
+    /// are measured from the drawing (each to half an ulp), and a random
+    /// construction amplifies that rounding along its levels: 2.5e-12 of the
+    /// scale at seed 7553503569457194624 (8 steps), so 1e-12 was too tight;
+    /// a wrong realization is off by a fraction of the scale.
     #[test]
     fn random_linkages_are_recognised_and_reproduced(seed in any::<u64>(), steps in 1usize..9, tri in 0.0f64..0.8) {
         let scene = random_linkage(seed, steps, tri);
@@ -228,7 +232,7 @@ proptest! {
         let shown = to_display(&a.linkage, s.dec.base, &pos);
         let size = a.linkage.scale;
         for (p, d) in shown.iter().zip(&a.linkage.drawn) {
-            prop_assert!((p[0] - d[0]).hypot(p[1] - d[1]) <= 1e-12 * size, "{p:?} vs {d:?}");
+            prop_assert!((p[0] - d[0]).hypot(p[1] - d[1]) <= 1e-10 * size, "{p:?} vs {d:?}");
         }
         prop_assert_eq!(s.complexity.ccv.len(), s.dec.steps.len());
     }

@@ -913,6 +913,7 @@ impl<'a, T: Real> Walker<'a, T> {
         // The step (and kind) whose root the gap ends at: steps after it behave
         // like square roots there.
         let mut ends_at: Option<(usize, usize)> = None;
+        let noise = tolerance::touch_noise(T::UNIT_ROUNDOFF) * self.con.scale;
         if let Some((k, i)) = first {
             let kind = self.kinds(k)[i];
             let s1 = self.slack(k, kind, right.d[k], dir);
@@ -946,6 +947,26 @@ impl<'a, T: Real> Walker<'a, T> {
                 let (positive0, positive1) = (noisy0 || s0.v > T::zero(), noisy1 || s1.v > T::zero());
                 if (noisy0 || noisy1) && positive0 && positive1 {
                     continue;
+                }
+                // At a root already found in this gap, a reading just below
+                // zero may be only the rounding of the lengths to f64 (a touch
+                // or an event coincident in the lengths as written): the
+                // certifier decides there, at that end. (A reading of exactly
+                // zero is that end's own: `first_root` keeps it coincident.)
+                if let (Some(end), Some(&found)) = (&shrunk, events.first())
+                    && s0.v > T::zero()
+                    && s1.v < T::zero()
+                    && s1.v.to_f64() >= -noise
+                {
+                    let at = At { lambda: end.lambda.to_f64(), events: &[found] };
+                    match self.cert.slack_sign(bits, at, k, kind) {
+                        Sign::Zero => {
+                            events.push(Event { step: k, kind });
+                            continue;
+                        }
+                        Sign::Positive => continue,
+                        _ => {}
+                    }
                 }
                 let along = Along { bits, k, kind, dir };
                 let Some(root) = self.first_root(along, (near.lambda, s0), (far.lambda, s1), entering) else {
