@@ -118,22 +118,24 @@ fn a_lazy_start_where_several_steps_are_flat_at_an_isolated_point_takes_every_fl
     }
 }
 
-/// The Peaucellier inversor on bases O–C, O–P and C–P. On O–P its rhombus
-/// C ◁ (B, D) touches stretched at λ = 4, where A ◁ (O, C) touches stretched
-/// too; beside the touch C is known to about √ε in f64, so the next slack
-/// read 0 at λ = 4.0000000029 and the walk took it for an end (two
-/// components, the drawn one [4, 8], where the sweep has one interval
-/// [2, 8]). The walk now asks the certifier there. (On A–B, A–D and B–D,
-/// where B and D coincide for some types and the rhombus P ◁ (B, D) turns
-/// freely, the walk and the sweep still differ: the sweep leaves those types
-/// out, the walk does not.)
+/// The Peaucellier inversor on bases O–C, O–P, C–P and B–D. On O–P its
+/// rhombus C ◁ (B, D) touches stretched at λ = 4, where A ◁ (O, C) touches
+/// stretched too; beside the touch C is known to about √ε in f64, so the
+/// next slack read 0 at λ = 4.0000000029 and the walk took it for an end
+/// (two components, the drawn one [4, 8], where the sweep has one interval
+/// [2, 8]). The walk now asks the certifier there. On B–D three steps are
+/// flat at once at λ = 6: the walk entered ---- there, read no slope for
+/// the step it entered by (a square root's), and returned a point where the
+/// sweep has [0, 6]. (On A–B and A–D, where B and D coincide for some types
+/// and the rhombus P ◁ (B, D) turns freely, the walk and the sweep still
+/// differ: the sweep leaves those types out, the walk does not.)
 #[test]
 fn lazy_equals_exhaustive_on_peaucellier_bases_through_the_touch() {
     let scene = bundled::load("peaucellier").unwrap();
     let a = analyse(scene.clone(), None).unwrap();
     let id = |n: &str| a.linkage.names.iter().position(|x| x == n).unwrap();
-    for [u, w] in [["O", "C"], ["O", "P"], ["C", "P"]] {
-        check_scene_on(scene.clone(), Some([id(u), id(w)])).unwrap_or_else(|e| panic!("{e}"));
+    for [u, w] in [["O", "C"], ["O", "P"], ["C", "P"], ["B", "D"]] {
+        check_scene_on(scene.clone(), Some([id(u), id(w)])).unwrap_or_else(|e| panic!("{u}–{w}: {e}"));
     }
 }
 

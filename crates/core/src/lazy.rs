@@ -1044,7 +1044,12 @@ impl<'a, T: Real> Walker<'a, T> {
     /// construction and grows into the gap.
     fn first_root(&mut self, along: Along<T>, (a, s0): (T, Jet<T>), (b, s1): (T, Jet<T>), entering: bool) -> Option<T> {
         let zero = T::zero();
-        if !self.closes_beyond(s0, entering) {
+        // Entered at a place where an earlier step is flat too, d_k behaves
+        // like a square root there (no finite slope): monotone over the
+        // gap, so the far end's sign is the sign just beyond a (Peaucellier
+        // on base B–D, entering ---- at λ = 6, where three steps are flat).
+        let monotone_from_end = entering && !finite(&s0) && s1.v > zero;
+        if !monotone_from_end && !self.closes_beyond(s0, entering) {
             return Some(a);
         }
         if s1.v <= zero && self.rounding_at_tangency(s1) {
