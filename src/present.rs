@@ -261,10 +261,13 @@ pub fn note(note: &Note, n: Names) -> String {
             n.step(*step)
         ),
         Note::Degenerate { lambda, step } => format!(
-            "degenerate: for some types {} has its base joints coincide for λ in [{}, {}], so its vertex turns freely (an extra degree of freedom); those types are left out there",
+            "degenerate: for some types {} has its base joints coincide {}, so its vertex turns freely (an extra degree of freedom); those types are left out there",
             n.step(*step),
-            sig(lambda[0]),
-            sig(lambda[1])
+            if lambda[0] == lambda[1] {
+                format!("at λ = {}", sig(lambda[0]))
+            } else {
+                format!("for λ in [{}, {}]", sig(lambda[0]), sig(lambda[1]))
+            }
         ),
     }
 }

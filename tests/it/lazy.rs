@@ -139,6 +139,38 @@ fn lazy_equals_exhaustive_on_peaucellier_bases_through_the_touch() {
     }
 }
 
+/// Peaucellier on bases A–B and A–D: in some types D lands on B (the
+/// triangle O, C, D is the triangle O, C, B), so the rhombus P ◁ (B, D) has
+/// its base joints coincide and P turns freely. The walk used to go
+/// through such a type (-+-+ on A–B, coincident all along); it now ends the
+/// component where the certifier proves the step degenerate beside the end
+/// it would enter by, as the sweep leaves such types out. (A type
+/// degenerate on only part of its interval, ++-+ on A–B below λ = √19, is
+/// still walked across that part: see the README.)
+#[test]
+fn the_walk_does_not_enter_a_type_whose_rhombus_is_folded_flat_all_along() {
+    use caymos::certify::Closes;
+    let scene = bundled::load("peaucellier").unwrap();
+    let a = analyse(scene.clone(), None).unwrap();
+    let id = |n: &str| a.linkage.names.iter().position(|x| x == n).unwrap();
+    for [u, w] in [["A", "B"], ["A", "D"]] {
+        let s = analyse_with(scene.clone(), Some([id(u), id(w)]), Scope::Lazy).unwrap().outcome.unwrap();
+        let degenerate_at = |ty: &caymos::realize::RealizationType, l: f64| {
+            (0..ty.0.len()).any(|k| s.certifier.closes(None, &ty.0, l, k) == Closes::Degenerate)
+        };
+        for iv in &s.space.intervals {
+            let (lo, hi) = (iv.lower.lambda, iv.upper.lambda);
+            let inside = [lo + 0.01 * (hi - lo), 0.5 * (lo + hi), hi - 0.01 * (hi - lo)];
+            assert!(
+                !inside.iter().all(|&l| degenerate_at(&iv.ty, l)),
+                "{u}–{w}: {} over [{lo}, {hi}] is degenerate all along",
+                iv.ty
+            );
+        }
+        assert!(s.space.intervals.iter().any(|iv| iv.ty.to_string() == "+--+" || iv.ty.to_string() == "-++-"));
+    }
+}
+
 #[test]
 fn lazy_equals_exhaustive_on_hard_cases() {
     for scene in hard_cases() {

@@ -43,7 +43,7 @@
 //! iteration on step k; nothing is exponential in the depth.
 
 use crate::cayley_space::{CayleySpace, Method, Note, OrientedInterval};
-use crate::certify::{At, Certifier, Sign};
+use crate::certify::{At, Certifier, Closes, Sign};
 use crate::real::{Jet, Real, Slope};
 use crate::realize::{Construction, Event, Kind, P2, RealizationType, Unrealizable};
 use std::cell::{Cell, RefCell};
@@ -608,6 +608,13 @@ impl<'a, T: Real> Walker<'a, T> {
                 return j == 0;
             }
             let p = self.probe(&next.0, e.lambda);
+            if let Some(k) = self.degenerate_beside(&next.0, &p, dir) {
+                // A type with a step whose base joints coincide turns that
+                // vertex freely: the component ends here, as in the sweep.
+                let at = e.lambda.to_f64();
+                self.notes.push(Note::Degenerate { lambda: [at, at], step: k });
+                return false;
+            }
             let recent = intervals.len().saturating_sub(RECENT);
             self.closing =
                 intervals[recent..].iter().map(|iv| Closing::shared(iv, &next.0)).filter(|c| c.steps > 0).collect();
@@ -623,6 +630,21 @@ impl<'a, T: Real> Walker<'a, T> {
             cur = intervals.len() - 1;
             leaving_upper = !leaving_upper;
         }
+    }
+
+    /// The step of type `bits` whose base joints coincide just beside the
+    /// probe `p` (in direction `dir`), proven by the certifier (d zero to
+    /// double-double resolution, [`Closes::Degenerate`]) where f64 reads d
+    /// within [`tolerance::touch_noise`] of zero; `None` for none. Only
+    /// steps with equal sides can be degenerate and still close.
+    fn degenerate_beside(&self, bits: &[bool], p: &Probe<T>, dir: T) -> Option<usize> {
+        let noise = tolerance::touch_noise(T::UNIT_ROUNDOFF) * self.con.scale;
+        let beside = p.lambda + dir * T::from_f64(tolerance::FEASIBLE.sqrt() * self.con.scale);
+        (0..p.d.len()).find(|&k| {
+            self.kinds(k).len() == 1
+                && p.d[k].v.to_f64().abs() <= noise
+                && self.cert.closes(None, bits, beside.to_f64(), k) == Closes::Degenerate
+        })
     }
 
     /// The type the motion continues into at endpoint `e` of `ty`: the flat
