@@ -810,6 +810,10 @@ pub fn check_sweep_range(parameter: Parameter, from: f64, to: f64, steps: usize,
     if from >= to {
         return Err(format!("{f}{from} must be below {t}{to}"));
     }
+    if !(to - from).is_finite() {
+        let (a, b) = (present::full(from), present::full(to));
+        return Err(format!("{f}{a} {t}{b}: the range is wider than f64 holds"));
+    }
     if matches!(parameter, Parameter::BarLength(_)) && from <= 0.0 {
         return Err(format!("{f}{from}: a bar length must be positive"));
     }

@@ -77,7 +77,7 @@ struct WalkArgs {
     #[arg(long)]
     step: Option<f64>,
     /// Sample budget: at most this many realizations are computed per walk; the output says when it is reached.
-    #[arg(long, default_value_t = caymos::tolerance::DEFAULT_MAX_SAMPLES, value_parser = at_least_one)]
+    #[arg(long, default_value_t = caymos::tolerance::DEFAULT_MAX_SAMPLES, value_parser = sample_budget)]
     max_samples: usize,
 }
 
@@ -85,12 +85,14 @@ struct WalkArgs {
 enum Family {
     /// A chain of four-cycles, each step carried by the one before.
     Chain {
-        #[arg(long)]
+        /// 1 to 100000.
+        #[arg(long, value_parser = generated_steps)]
         steps: usize,
     },
     /// Jansen legs sharing one crank.
     Strandbeest {
-        #[arg(long)]
+        /// 1 to 10000.
+        #[arg(long, value_parser = generated_legs)]
         legs: usize,
     },
 }
@@ -247,8 +249,8 @@ enum Command {
         scenes: Vec<String>,
         #[arg(long, value_enum, default_value = "text")]
         format: Format,
-        /// Timed repetitions after a warm-up (the median is reported); at least 1.
-        #[arg(long, default_value_t = 5, value_parser = at_least_one)]
+        /// Timed repetitions after a warm-up (the median is reported); 1 to 1000.
+        #[arg(long, default_value_t = 5, value_parser = repeat_count)]
         repeat: usize,
         /// Also the lazy walk on generated chains (10…1000 steps) and Strandbeests (1…12 legs).
         #[arg(long)]
@@ -569,9 +571,8 @@ fn run(command: Command) -> Result<u8, Failure> {
         }
         Command::Generate { family, output } => {
             let scene = match family {
-                Family::Chain { steps } if steps >= 1 => caymos::generate::chain(steps),
-                Family::Strandbeest { legs } if legs >= 1 => caymos::generate::strandbeest(legs),
-                _ => return Err(arg_error("give a positive --steps or --legs".into())),
+                Family::Chain { steps } => caymos::generate::chain(steps),
+                Family::Strandbeest { legs } => caymos::generate::strandbeest(legs),
             };
             write_out(output, &caymos::generate::to_toml(&scene))?;
             Ok(0)
@@ -706,13 +707,32 @@ fn walk_options(args: &WalkArgs, a: &Analysis) -> Result<commands::Walk, Failure
     Ok(commands::Walk { step, max_samples: args.max_samples })
 }
 
-/// A count of at least 1 (`--repeat`, `--max-samples`).
-fn at_least_one(text: &str) -> Result<usize, String> {
+/// A count from 1 to `max`: every command has a bounded cost.
+fn count_up_to(text: &str, max: usize) -> Result<usize, String> {
     match text.trim().parse::<usize>() {
-        Ok(n) if n >= 1 => Ok(n),
-        Ok(_) => Err("give at least 1".into()),
-        Err(_) => Err("give a whole number, at least 1".into()),
+        Ok(n) if (1..=max).contains(&n) => Ok(n),
+        _ => Err(format!("give a whole number from 1 to {max} (a bounded cost)")),
     }
+}
+
+/// `--max-samples`: 1 to [`caymos::tolerance::MAX_SAMPLES_LIMIT`].
+fn sample_budget(text: &str) -> Result<usize, String> {
+    count_up_to(text, caymos::tolerance::MAX_SAMPLES_LIMIT)
+}
+
+/// `bench --repeat`: 1 to [`caymos::tolerance::MAX_REPEAT`].
+fn repeat_count(text: &str) -> Result<usize, String> {
+    count_up_to(text, caymos::tolerance::MAX_REPEAT)
+}
+
+/// `generate chain --steps`: 1 to [`caymos::tolerance::MAX_GENERATED_STEPS`].
+fn generated_steps(text: &str) -> Result<usize, String> {
+    count_up_to(text, caymos::tolerance::MAX_GENERATED_STEPS)
+}
+
+/// `generate strandbeest --legs`: 1 to [`caymos::tolerance::MAX_GENERATED_LEGS`].
+fn generated_legs(text: &str) -> Result<usize, String> {
+    count_up_to(text, caymos::tolerance::MAX_GENERATED_LEGS)
 }
 
 /// `A,B` → the two joints' indices.

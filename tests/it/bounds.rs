@@ -375,14 +375,30 @@ fn a_bar_along_a_body_edge_is_accepted_if_it_agrees_and_named_if_not() {
 }
 
 #[test]
-fn bench_says_why_it_skips_a_scene_and_rejects_zero_repeats() {
+fn bench_says_why_it_skips_a_scene_and_counts_are_bounded() {
     let out = caymos(&["bench", "fig1c", "--repeat", "1"]);
     assert_eq!(out.status.code(), Some(2));
     assert!(stdout(&out).contains("Skipped") && stdout(&out).contains("rigid"), "{}", stdout(&out));
     assert!(!stdout(&out).contains("method"), "no empty tables: {}", stdout(&out));
-    let out = caymos(&["bench", "jansen", "--repeat", "0"]);
+    // Counts have a floor and a ceiling: every command has a bounded cost.
+    for args in [
+        ["bench", "jansen", "--repeat", "0"],
+        ["bench", "jansen", "--repeat", "1000000000"],
+        ["generate", "chain", "--steps", "100000000"],
+        ["generate", "strandbeest", "--legs", "0"],
+        ["trace", "jansen", "--max-samples", "4000000000"],
+    ] {
+        let out = caymos(&args);
+        assert_eq!(out.status.code(), Some(1), "{args:?}");
+        assert!(
+            stderr(&out).contains("a whole number from 1 to") && stderr(&out).contains(args[2]),
+            "{}",
+            stderr(&out)
+        );
+    }
+    let out = caymos(&["sweep", "fourbar-crank-rocker", "--bar", "A,B", "--from", "-1e308", "--to", "1e308"]);
     assert_eq!(out.status.code(), Some(1));
-    assert!(stderr(&out).contains("at least 1"), "{}", stderr(&out));
+    assert!(stderr(&out).contains("wider than f64"), "{}", stderr(&out));
 }
 
 #[test]

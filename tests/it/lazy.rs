@@ -255,6 +255,18 @@ fn auto_goes_lazy_where_the_sweep_is_estimated_above_its_budget() {
     assert!(!small.lazy && small.sweep_estimate.is_some_and(|c| c <= budget));
 }
 
+/// `--all` has a bounded cost too: an 18-step chain's sweep is estimated at
+/// 9e10 realization steps and a 300-step chain's candidate search is
+/// unbounded, so both are refused with the reason, before any sweep.
+#[test]
+fn the_full_analysis_is_refused_beyond_its_budget() {
+    for steps in [18, 300] {
+        let err = analyse_with(chain(steps), None, Scope::Full).expect_err("refused");
+        assert!(err.message.contains("beyond its budget") && err.message.contains("without --all"), "{err}");
+        assert!(analyse(chain(steps), None).unwrap().outcome.unwrap().lazy);
+    }
+}
+
 #[test]
 fn lazy_scope_equals_full_scope_and_include_walks_other_components() {
     for name in ["jansen", "limacon", "fourbar-non-grashof"] {

@@ -4,7 +4,8 @@
 use std::time::Instant;
 
 use crate::cayley_space::{
-    CayleySpace, Method, Note, OrientedInterval, SweepPlan, cayley_space, cayley_space_planned, union,
+    CayleySpace, Method, Note, OrientedInterval, SweepPlan, candidate_search_bound, cayley_space, cayley_space_planned,
+    union,
 };
 use crate::cayley_vector::{Mirrors, mirror_images};
 use crate::certify::Certifier;
@@ -603,6 +604,14 @@ pub fn analyse(scene: Scene, base_override: Option<[usize; 2]>) -> Result<Analys
     analyse_with(scene, base_override, Scope::Auto)
 }
 
+/// Why the full analysis of a scene with `steps` steps is refused: `what`
+/// would cost about `cost` (a bounded cost for every command).
+fn full_refused(steps: usize, what: &str, cost: f64) -> String {
+    format!(
+        "the full analysis (every one of 2^{steps} types, --all) is beyond its budget: {what} is estimated at {cost:.1e} (budgets: tolerance::FULL_SEARCH_MAX, FULL_COST_MAX); without --all the lazy analysis walks the drawn component"
+    )
+}
+
 /// Whether `Scope::Auto` sweeps every type of a scene within
 /// [`LAZY_ABOVE_STEPS`]: the sweep's estimated cost is within its budget.
 fn affordable(plan: &SweepPlan<f64>) -> bool {
@@ -693,6 +702,14 @@ pub fn analyse_checked(
     // small ones get the full analysis where it is affordable (it relocates
     // the drawing from its intervals), others a sampled search for a start.
     let unreachable_sketch = scene.is_sketch() && construction.realize(drawn.lambda, &drawn.ty).is_err();
+    if scope == Scope::Full {
+        let bound = candidate_search_bound(&construction, &complexity);
+        if bound > crate::tolerance::FULL_SEARCH_MAX {
+            return Err(
+                scene.error_at(None, full_refused(dec.steps.len(), "its closed-form candidates' search", bound))
+            );
+        }
+    }
     let plan = || SweepPlan::new(&construction, &dec, &complexity, Method::Exact);
     let plan = match scope {
         Scope::Auto => (dec.steps.len() <= LAZY_ABOVE_STEPS).then(plan),
@@ -700,6 +717,11 @@ pub fn analyse_checked(
         Scope::Lazy => (unreachable_sketch && dec.steps.len() <= LAZY_ABOVE_STEPS).then(plan),
     };
     let sweep_estimate = plan.as_ref().map(SweepPlan::cost);
+    if let (Scope::Full, Some(cost)) = (scope, sweep_estimate)
+        && cost > crate::tolerance::FULL_COST_MAX
+    {
+        return Err(scene.error_at(None, full_refused(dec.steps.len(), "its sweep", cost)));
+    }
     let plan = plan.filter(|p| scope == Scope::Full || affordable(p));
     let lazy = plan.is_none();
     let mut space = if lazy {

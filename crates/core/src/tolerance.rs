@@ -337,6 +337,29 @@ pub const REFINEMENTS_KEPT: usize = 4096;
 /// A budget on work, not a decision about the mechanism.
 pub const SWEEP_COST_MAX: f64 = 5e5;
 
+/// The largest `--max-samples` a walking command takes: a budget the user
+/// may raise, but not past a bounded cost (realizations of the whole scene).
+pub const MAX_SAMPLES_LIMIT: usize = 10_000_000;
+
+/// The largest `bench --repeat` (timed repetitions of every method).
+pub const MAX_REPEAT: usize = 1000;
+
+/// The largest generated families (`generate chain --steps`,
+/// `generate strandbeest --legs`): files of a few MB, analysed lazily.
+pub const MAX_GENERATED_STEPS: usize = 100_000;
+/// See [`MAX_GENERATED_STEPS`].
+pub const MAX_GENERATED_LEGS: usize = 10_000;
+
+/// The full analysis (`Scope::Full`, `--all`) is refused where its
+/// closed-form candidates' search could exceed this many branches
+/// (`cayley_space::candidate_search_bound`, before any is computed) …
+pub const FULL_SEARCH_MAX: f64 = 1e8;
+/// … or where its sweep is estimated above this many realization steps
+/// (`cayley_space::SweepPlan::cost`; about a quarter of an hour on this
+/// project's machine: a generated 16-step chain is 9.2e7 and takes 78 s,
+/// an 18-step one 9.3e10).
+pub const FULL_COST_MAX: f64 = 1e9;
+
 /// A sweep keeps the realized prefixes of at most this many places
 /// (`certify::Prefixes`), then starts afresh: a bound on memory, not a decision.
 pub const PREFIX_PLACES: usize = 4096;
