@@ -274,6 +274,13 @@ fn joints_at_the_same_point_are_rejected() {
     let scene = parse("bars = [[\"A\", \"B\"]]\n[joints]\nA = [1e300, 0]\nB = [-1e300, 0]\nC = [0, 1]\n");
     assert!(scene.is_ok(), "{scene:?}");
     assert_error("bars = [[\"A\", \"B\"]]\n[joints]\nA = [1e-300, 0]\nB = [1e-300, 0]\n", Some(4), &["same point"]);
+    // Apart in the drawing, but not at the scale a stated length sets: the
+    // error says what sets it, by bar and line.
+    assert_error(
+        "bars = [[\"A\", \"B\", 1e308], [\"B\", \"C\"]]\n[joints]\nA = [0, 0]\nB = [0.3, 0.9]\nC = [3, 3]\n",
+        Some(4),
+        &["joint \"B\" is drawn at the same point as joint \"A\"", "scale 1e308", "bar A–B's stated length, line 1"],
+    );
 }
 
 /// Issue 10: "the same point" is relative to the scene's scale (its longest

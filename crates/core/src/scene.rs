@@ -174,7 +174,7 @@ pub fn parse_scene(text: &str, source: &str, default_name: &str) -> Result<Scene
     let bars = parse_bars(&doc, &names, table.get("bars"))?;
     let bodies = parse_bodies(&doc, &names, table.get("bodies"))?;
     let half_scale = half_scale(&joints, &bars, &bodies);
-    check_distinct_positions(&doc, &joints, half_scale)?;
+    check_distinct_positions(&doc, &joints, &bars, half_scale)?;
     check_bars_within_bodies(&doc, &joints, &bars, &bodies, half_scale)?;
     let base = parse_base(&doc, &names, &bars, table.get("base"))?;
     let ground = parse_ground(&doc, &names, &bars, table.get("ground"))?;
@@ -472,14 +472,30 @@ fn same_point(p: [f64; 2], q: [f64; 2], half_scale: f64) -> bool {
 /// No two joints may be drawn at the same point (see [`same_point`]): the
 /// error is on the later joint's line. The scale is the scene's, not the
 /// drawing's extent, so a far-away joint does not merge two near ones.
-fn check_distinct_positions(doc: &Doc, joints: &[Joint], half_scale: f64) -> Result<(), SceneError> {
+fn check_distinct_positions(doc: &Doc, joints: &[Joint], bars: &[Bar], half_scale: f64) -> Result<(), SceneError> {
     for (i, later) in joints.iter().enumerate() {
         for earlier in &joints[..i] {
             if same_point(later.pos, earlier.pos, half_scale) {
+                // Apart, but not at the scene's scale: say what sets it (a
+                // stated length far beyond the drawing, say).
+                let scale = if later.pos == earlier.pos {
+                    String::new()
+                } else {
+                    let stated = bars.iter().find(|b| b.length.is_some_and(|l| l / 2.0 == half_scale));
+                    let by = stated.map_or(String::new(), |b| {
+                        let [p, q] = b.joints.map(|j| joints[j].name.as_str());
+                        format!(" (bar {p}–{q}'s stated length, line {})", b.line)
+                    });
+                    format!(
+                        ", to within {:e} of the scene's scale {:e}{by}",
+                        crate::tolerance::COINCIDENT,
+                        2.0 * half_scale
+                    )
+                };
                 return Err(doc.error_on_line(
                     later.line,
                     format!(
-                        "joint {:?} is drawn at the same point as joint {:?} (line {})",
+                        "joint {:?} is drawn at the same point as joint {:?} (line {}){scale}",
                         later.name, earlier.name, earlier.line
                     ),
                 ));
