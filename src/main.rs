@@ -426,7 +426,17 @@ fn run(command: Command) -> Result<u8, Failure> {
                 ReportFormat::Text => emit(&report.to_text_with(all)),
                 ReportFormat::Markdown => emit(&report.to_markdown(all)),
             }
-            Ok(if report.one_dof_tree_decomposable { 0 } else { 2 })
+            let failed = matches!(
+                report.no_realization.as_ref().map(|n| &n.data),
+                Some(caymos::analysis::NoRealization::NumericFailure { .. })
+            );
+            Ok(if !report.one_dof_tree_decomposable {
+                2
+            } else if failed {
+                3
+            } else {
+                0
+            })
         }
         Command::Graph { scene, format, base } => {
             let scene = bundled::resolve(scene.as_deref())?;
