@@ -283,6 +283,17 @@ fn joints_at_the_same_point_are_rejected() {
     );
 }
 
+/// A scene whose scale is below f64's normal range (subnormal lengths) is
+/// refused: at 1e-310 the analysis gave a wrong Cayley space. 1e-300 is fine.
+#[test]
+fn a_subnormal_scale_is_refused() {
+    let at = |s: &str| {
+        format!("bars = [[\"A\", \"B\"], [\"B\", \"C\"]]\n[joints]\nA = [0, 0]\nB = [1{s}, 0]\nC = [1{s}, 1{s}]\n")
+    };
+    assert_error(&at("e-310"), Some(1), &["scale", "below f64's normal range", "larger units"]);
+    assert!(parse(&at("e-300")).is_ok());
+}
+
 /// Issue 10: "the same point" is relative to the scene's scale (its longest
 /// bar or body span), not to the drawing's extent, which a far-away joint
 /// can make as large as it likes.

@@ -174,6 +174,7 @@ pub fn parse_scene(text: &str, source: &str, default_name: &str) -> Result<Scene
     let bars = parse_bars(&doc, &names, table.get("bars"))?;
     let bodies = parse_bodies(&doc, &names, table.get("bodies"))?;
     let half_scale = half_scale(&joints, &bars, &bodies);
+    check_normal_scale(&doc, &bars, half_scale)?;
     check_distinct_positions(&doc, &joints, &bars, half_scale)?;
     check_bars_within_bodies(&doc, &joints, &bars, &bodies, half_scale)?;
     let base = parse_base(&doc, &names, &bars, table.get("base"))?;
@@ -467,6 +468,26 @@ fn half_distance(p: [f64; 2], q: [f64; 2]) -> f64 {
 fn same_point(p: [f64; 2], q: [f64; 2], half_scale: f64) -> bool {
     let half_magnitude = p.iter().chain(&q).fold(0.0f64, |m, x| m.max(x.abs())) / 2.0;
     p == q || crate::tolerance::same_drawn_point(half_distance(p, q), half_magnitude, half_scale)
+}
+
+/// The scene's scale must be a normal f64 (at least `f64::MIN_POSITIVE`,
+/// 2.2e-308): below it lengths lose digits (subnormal numbers), and a
+/// scene at 1e-310 gave a wrong Cayley space. The error is on the first
+/// bar's line; a scale of zero (every joint at one point) is left to the
+/// same-point check.
+fn check_normal_scale(doc: &Doc, bars: &[Bar], half_scale: f64) -> Result<(), SceneError> {
+    let scale = 2.0 * half_scale;
+    if scale == 0.0 || scale >= f64::MIN_POSITIVE {
+        return Ok(());
+    }
+    let line = bars.first().map_or(1, |b| b.line);
+    Err(doc.error_on_line(
+        line,
+        format!(
+            "the scene's scale (its longest bar or body) is {scale:e}, below f64's normal range ({:e}): write the scene in larger units",
+            f64::MIN_POSITIVE
+        ),
+    ))
 }
 
 /// No two joints may be drawn at the same point (see [`same_point`]): the
