@@ -337,8 +337,8 @@ pub fn closest_with(
 /// Each path is walked within `walk`'s sample budget and says if it was cut.
 pub fn path(linkage: &Linkage, s: &Solved, from: &str, to: &str, walk: Walk) -> Result<PathReport, String> {
     require_component(linkage, s)?;
-    let (ra, ia) = resolve_realization(s, from)?;
-    let (rb, ib) = resolve_realization(s, to)?;
+    let (ra, ia) = resolve_realization(s, from).map_err(|e| format!("--from {e}"))?;
+    let (rb, ib) = resolve_realization(s, to).map_err(|e| format!("--to {e}"))?;
     let (ca, cb) = (s.components.of_interval[ia], s.components.of_interval[ib]);
     let from_out = realization_out(s, &ra, ia);
     let to_out = realization_out(s, &rb, ib);
@@ -450,8 +450,8 @@ pub fn trace_segments(
 ) -> Result<Vec<Segment>, String> {
     require_component(linkage, s)?;
     if let Some((from, to, arc)) = between {
-        let (ra, ia) = resolve_realization(s, from)?;
-        let (rb, ib) = resolve_realization(s, to)?;
+        let (ra, ia) = resolve_realization(s, from).map_err(|e| format!("--from {e}"))?;
+        let (rb, ib) = resolve_realization(s, to).map_err(|e| format!("--to {e}"))?;
         let c = s.components.of_interval[ia];
         if c != s.components.of_interval[ib] {
             return Err("no path: the two realizations lie in different components (see `caymos path`)".into());

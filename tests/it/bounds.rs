@@ -461,3 +461,20 @@ fn a_numerical_failure_exits_3() {
     assert_eq!(caymos(&["report", "jansen"]).status.code(), Some(0));
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// A malformed `TYPE@LAMBDA` names its flag and the whole spec, and says
+/// which half is wrong.
+#[test]
+fn a_malformed_realization_names_its_flag_and_part() {
+    for (from, want) in [
+        ("+-@", "--from \"+-@\": the λ after @ (\"\") is not a number"),
+        ("+-@4@5", "the λ after @ (\"4@5\")"),
+        ("+x@4", "--from \"+x@4\": the type before @ (\"+x\")"),
+    ] {
+        let out = caymos(&["path", "fourbar-crank-rocker", "--from", from, "--to", "drawn"]);
+        assert_eq!(out.status.code(), Some(1));
+        assert!(stderr(&out).contains(want), "{}", stderr(&out));
+    }
+    let out = caymos(&["trace", "fourbar-crank-rocker", "--from", "drawn", "--to", "++@x"]);
+    assert!(stderr(&out).contains("--to \"++@x\""), "{}", stderr(&out));
+}

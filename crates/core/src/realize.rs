@@ -130,10 +130,12 @@ impl Realization {
     pub fn parse(text: &str) -> Result<Self, String> {
         let (ty, lambda) =
             text.split_once('@').ok_or_else(|| format!("\"{text}\": expected TYPE@LAMBDA, e.g. -+-+@41.2"))?;
-        let ty = RealizationType::parse(ty.trim()).ok_or_else(|| format!("\"{ty}\": a type is a string of + and -"))?;
-        let lambda: f64 = lambda.trim().parse().map_err(|_| format!("\"{lambda}\": not a number"))?;
+        let ty = RealizationType::parse(ty.trim())
+            .ok_or_else(|| format!("\"{text}\": the type before @ (\"{ty}\") is a string of + and -"))?;
+        let lambda: f64 =
+            lambda.trim().parse().map_err(|_| format!("\"{text}\": the λ after @ (\"{lambda}\") is not a number"))?;
         if !lambda.is_finite() {
-            return Err(format!("\"{lambda}\": not a finite number"));
+            return Err(format!("\"{text}\": the λ after @ ({lambda}) is not a finite number"));
         }
         Ok(Realization { ty, lambda })
     }
