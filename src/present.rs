@@ -507,21 +507,26 @@ pub fn walk_notes(w: &crate::motion::WalkSummary, max_samples: usize) -> Vec<Str
     notes
 }
 
+/// Why an analysis within the step limit is lazy: its full sweep's
+/// `estimate` is above `budget` (`None` otherwise: asked for, or too many steps).
+pub fn lazy_reason(estimate: Option<f64>, budget: f64) -> Option<String> {
+    estimate.filter(|&cost| cost > budget).map(|cost| {
+        format!(
+            "a full sweep is estimated at {} realization steps, above the budget of {}",
+            fmt_num(cost),
+            fmt_num(budget)
+        )
+    })
+}
+
 /// In a lazy analysis, which components are known and how they were found.
 pub fn lazy_note(s: &crate::analysis::Solved) -> Option<String> {
     if !s.lazy {
         return None;
     }
     let n = s.components.list.len();
-    let budget = crate::tolerance::SWEEP_COST_MAX;
-    let why = match s.sweep_estimate {
-        Some(cost) if cost > budget => format!(
-            "; a full sweep is estimated at {} realization steps, above the budget of {}",
-            fmt_num(cost),
-            fmt_num(budget)
-        ),
-        _ => String::new(),
-    };
+    let why =
+        lazy_reason(s.sweep_estimate, crate::tolerance::SWEEP_COST_MAX).map_or(String::new(), |r| format!("; {r}"));
     Some(format!(
         "lazy analysis ({} steps{why}): {n} component{} walked: the drawn realization's{}; `--component K` walks more, `--all` analyses every type (component numbers then follow `report --all`)",
         s.dec.steps.len(),

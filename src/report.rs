@@ -539,14 +539,8 @@ impl Report {
         let n_types_text = if n_types == usize::MAX { format!("2^{}", self.steps.len()) } else { n_types.to_string() };
         let lazy = self.analysis == AnalysisKind::Lazy;
         if lazy {
-            let why = match self.sweep_estimate {
-                Some(cost) if cost > self.sweep_budget => format!(
-                    ": a full sweep is estimated at {} realization steps, above the budget of {}",
-                    fmt_num(cost),
-                    fmt_num(self.sweep_budget)
-                ),
-                _ => String::new(),
-            };
+            let why = crate::present::lazy_reason(self.sweep_estimate, self.sweep_budget)
+                .map_or(String::new(), |r| format!(": {r}"));
             let _ = writeln!(
                 o,
                 "{:<24}lazy: only the component through the drawn realization ({n_types_text} types not enumerated{why}; --all forces the full analysis)",

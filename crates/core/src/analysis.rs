@@ -4,13 +4,13 @@
 use std::time::Instant;
 
 use crate::cayley_space::{
-    CayleySpace, Method, Note, OrientedInterval, SweepPlan, candidate_search_bound, cayley_space, cayley_space_planned,
-    union,
+    CayleySpace, Method, Note, OrientedInterval, SweepPlan, cayley_space, cayley_space_planned, union,
 };
 use crate::cayley_vector::{Mirrors, mirror_images};
 use crate::certify::Certifier;
 use crate::complexity::{Complexity, four_cycle_test};
 use crate::decompose::{Decomposition, Outside, decompose};
+use crate::invert::candidate_search_bound;
 use crate::lazy::{LazyOptions, component_through};
 use crate::linkage::Linkage;
 use crate::minimal_vector::{MinimalOptions, MinimalVector, minimal_vector};
@@ -612,29 +612,52 @@ fn full_refused(steps: usize, what: &str, cost: f64) -> String {
     )
 }
 
-/// Whether `Scope::Auto` sweeps every type of a scene within
-/// [`LAZY_ABOVE_STEPS`]: the sweep's estimated cost is within its budget.
-fn affordable(plan: &SweepPlan<f64>) -> bool {
-    plan.cost() <= crate::tolerance::SWEEP_COST_MAX
+/// The sweep `scope` calls for (`None`: the lazy walk), and the full
+/// sweep's estimated cost where it was estimated; `Err` with the reason
+/// where the full analysis is beyond its budget. `Auto` sweeps within
+/// [`LAZY_ABOVE_STEPS`] and [`crate::tolerance::SWEEP_COST_MAX`]; `Lazy`
+/// sweeps only a small sketch whose drawn λ its type cannot reach (the
+/// walk has no start there).
+fn plan_for(
+    scope: Scope,
+    (con, dec, cx): (&Construction<f64>, &Decomposition, &Complexity),
+    unreachable_sketch: bool,
+) -> Result<(Option<SweepPlan<f64>>, Option<f64>), String> {
+    let small = dec.steps.len() <= LAZY_ABOVE_STEPS;
+    if scope == Scope::Full {
+        let bound = candidate_search_bound(con, cx);
+        if bound > crate::tolerance::FULL_SEARCH_MAX {
+            return Err(full_refused(dec.steps.len(), "its closed-form candidates' search", bound));
+        }
+    }
+    let wanted = match scope {
+        Scope::Auto => small,
+        Scope::Full => true,
+        Scope::Lazy => unreachable_sketch && small,
+    };
+    let Some(plan) = wanted.then(|| SweepPlan::new(con, dec, cx, Method::Exact)) else { return Ok((None, None)) };
+    let cost = plan.cost();
+    if scope == Scope::Full && cost > crate::tolerance::FULL_COST_MAX {
+        return Err(full_refused(dec.steps.len(), "its sweep", cost));
+    }
+    let sweep = scope == Scope::Full || cost <= crate::tolerance::SWEEP_COST_MAX;
+    Ok((sweep.then_some(plan), Some(cost)))
 }
 
 /// What `Scope::Auto` comes to for `scene` (on `base_override`, else its
 /// own base or the chosen one): `Full` or `Lazy`, from the recognition and
-/// the sweep's estimate alone. `Auto` where the scene cannot be recognised
-/// (the analysis says why). For callers that give many variants of one
-/// scene the same analysis, so that their results compare (a sweep's
-/// samples: their candidates, so their estimates, vary with the lengths).
+/// the sweep's estimate alone ([`plan_for`]). `Auto` where the scene cannot
+/// be recognised (the analysis says why). For callers that give many
+/// variants of one scene the same analysis, so that their results compare
+/// (a sweep's samples: their candidates, so their estimates, vary with the
+/// lengths).
 pub fn auto_scope(scene: &Scene, base_override: Option<[usize; 2]>) -> Scope {
     let linkage = Linkage::from_scene(scene);
     let Ok(Ok(dec)) = decompose(&linkage, base_override.or(scene.base.map(|b| b.0))) else { return Scope::Auto };
-    if dec.steps.len() > LAZY_ABOVE_STEPS {
-        return Scope::Lazy;
-    }
     let Ok(con) = Construction::<f64>::new(&linkage, &dec) else { return Scope::Auto };
-    if affordable(&SweepPlan::new(&con, &dec, &four_cycle_test(&dec), Method::Exact)) {
-        Scope::Full
-    } else {
-        Scope::Lazy
+    match plan_for(Scope::Auto, (&con, &dec, &four_cycle_test(&dec)), false) {
+        Ok((Some(_), _)) => Scope::Full,
+        _ => Scope::Lazy,
     }
 }
 
@@ -702,27 +725,8 @@ pub fn analyse_checked(
     // small ones get the full analysis where it is affordable (it relocates
     // the drawing from its intervals), others a sampled search for a start.
     let unreachable_sketch = scene.is_sketch() && construction.realize(drawn.lambda, &drawn.ty).is_err();
-    if scope == Scope::Full {
-        let bound = candidate_search_bound(&construction, &complexity);
-        if bound > crate::tolerance::FULL_SEARCH_MAX {
-            return Err(
-                scene.error_at(None, full_refused(dec.steps.len(), "its closed-form candidates' search", bound))
-            );
-        }
-    }
-    let plan = || SweepPlan::new(&construction, &dec, &complexity, Method::Exact);
-    let plan = match scope {
-        Scope::Auto => (dec.steps.len() <= LAZY_ABOVE_STEPS).then(plan),
-        Scope::Full => Some(plan()),
-        Scope::Lazy => (unreachable_sketch && dec.steps.len() <= LAZY_ABOVE_STEPS).then(plan),
-    };
-    let sweep_estimate = plan.as_ref().map(SweepPlan::cost);
-    if let (Scope::Full, Some(cost)) = (scope, sweep_estimate)
-        && cost > crate::tolerance::FULL_COST_MAX
-    {
-        return Err(scene.error_at(None, full_refused(dec.steps.len(), "its sweep", cost)));
-    }
-    let plan = plan.filter(|p| scope == Scope::Full || affordable(p));
+    let (plan, sweep_estimate) = plan_for(scope, (&construction, &dec, &complexity), unreachable_sketch)
+        .map_err(|why| scene.error_at(None, why))?;
     let lazy = plan.is_none();
     let mut space = if lazy {
         timings.time("lazy_component", || {

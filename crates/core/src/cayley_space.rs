@@ -27,7 +27,7 @@
 use std::cell::{OnceCell, RefCell};
 
 use crate::certify::{At as Place, Certifier, Closes, Prefixes, Sign};
-use crate::complexity::{Complexity, PairOrigin};
+use crate::complexity::Complexity;
 use crate::decompose::Decomposition;
 use crate::inthash::IntMap;
 use crate::invert::Inverter;
@@ -299,27 +299,6 @@ impl<T: Real> SweepPlan<T> {
             Method::Exact => 32,
         }
     }
-}
-
-/// An upper bound on the closed-form candidates' search ([`SweepPlan::new`]:
-/// the inversion's descent, both targets, every step), from the carriers
-/// alone, before any is computed: a step on the base has one candidate per
-/// target, each hinge back towards the base at most doubles that, each
-/// four-cycle quadruples it. Saturates at `f64::INFINITY`.
-pub fn candidate_search_bound<T: Real>(con: &Construction<T>, cx: &Complexity) -> f64 {
-    let mut bound = vec![0.0f64; con.steps.len()];
-    for k in 0..con.steps.len() {
-        bound[k] = if con.on_base(k) {
-            1.0
-        } else {
-            match cx.carriers[k].map(|c| c.origin) {
-                Some(PairOrigin::Step(j)) => 2.0 * bound[j],
-                Some(PairOrigin::FourCycle { step: j, .. }) => 4.0 * bound[j],
-                None => 0.0,
-            }
-        };
-    }
-    bound.iter().map(|b| 2.0 * b).sum()
 }
 
 /// Compute the oriented intervals of every type.

@@ -58,6 +58,28 @@ fn side_from_angle<T: Real>(a: T, b: T, one_minus_cos: T) -> T {
     if q < T::zero() { T::zero() } else { m * q.sqrt() }
 }
 
+/// An upper bound on the closed-form candidates' search: the branches of
+/// [`Inverter::candidates`] for both targets of every step, as
+/// `cayley_space::SweepPlan::new` asks them, from the carriers alone,
+/// before any is computed: a step on the base has one candidate per
+/// target, each hinge back towards the base at most doubles that, each
+/// four-cycle quadruples it. Saturates at `f64::INFINITY`.
+pub fn candidate_search_bound<T: Real>(con: &Construction<T>, cx: &Complexity) -> f64 {
+    let mut bound = vec![0.0f64; con.steps.len()];
+    for k in 0..con.steps.len() {
+        bound[k] = if con.on_base(k) {
+            1.0
+        } else {
+            match cx.carriers[k].map(|c| c.origin) {
+                Some(PairOrigin::Step(j)) => 2.0 * bound[j],
+                Some(PairOrigin::FourCycle { step: j, .. }) => 4.0 * bound[j],
+                None => 0.0,
+            }
+        };
+    }
+    bound.iter().map(|b| 2.0 * b).sum()
+}
+
 /// Candidate λ values for "step k flat with d_k = t".
 pub struct Inverter<'a, T: Real> {
     /// The construction whose steps are inverted.

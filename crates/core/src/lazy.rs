@@ -639,12 +639,18 @@ impl<'a, T: Real> Walker<'a, T> {
     /// steps with equal sides can be degenerate and still close.
     fn degenerate_beside(&self, bits: &[bool], p: &Probe<T>, dir: T) -> Option<usize> {
         let noise = tolerance::touch_noise(T::UNIT_ROUNDOFF) * self.con.scale;
-        let beside = p.lambda + dir * T::from_f64(tolerance::FEASIBLE.sqrt() * self.con.scale);
+        let beside = self.beside(p.lambda, dir);
         (0..p.d.len()).find(|&k| {
             self.kinds(k).len() == 1
                 && p.d[k].v.to_f64().abs() <= noise
                 && self.cert.closes(None, bits, beside.to_f64(), k) == Closes::Degenerate
         })
+    }
+
+    /// A λ just beside an end at `lambda`, in direction `dir` (√FEASIBLE of
+    /// the scale away): where a type entered there is tried.
+    fn beside(&self, lambda: T, dir: T) -> T {
+        lambda + dir * T::from_f64(tolerance::FEASIBLE.sqrt() * self.con.scale)
     }
 
     /// The type the motion continues into at endpoint `e` of `ty`: the flat
@@ -655,7 +661,7 @@ impl<'a, T: Real> Walker<'a, T> {
         if steps.len() == 1 {
             return Some(ty.flipped(steps[0]));
         }
-        let beside = e.lambda + dir * T::from_f64(tolerance::FEASIBLE.sqrt() * self.con.scale);
+        let beside = self.beside(e.lambda, dir);
         let n = self.con.steps.len();
         let realizable = |t: &RealizationType| {
             self.count_steps(n);
@@ -1114,15 +1120,10 @@ impl<'a, T: Real> Walker<'a, T> {
             let s = &self.con.steps[j];
             p.d.get(j).is_some_and(|d| kind.slack_value(s.r1, s.r2, d.v).to_f64().abs() <= noise)
         };
-        if !near_zero(k, kind) {
-            return false;
-        }
-        let flat_before: Vec<usize> = (0..k).filter(|&j| self.kinds(j).iter().any(|&kj| near_zero(j, kj))).collect();
-        if flat_before.is_empty() {
-            return false;
-        }
-        let ancestors = self.con.ancestors(k);
-        flat_before.iter().any(|&j| ancestors[j])
+        let nearly_flat = |j: usize| self.kinds(j).iter().any(|&kj| near_zero(j, kj));
+        near_zero(k, kind)
+            && (0..k).any(nearly_flat)
+            && self.con.ancestors(k).iter().enumerate().any(|(j, &read)| read && nearly_flat(j))
             && self.cert.slack_sign(bits, At { lambda: p.lambda.to_f64(), events: &[] }, k, kind) == Sign::Positive
     }
 
