@@ -646,7 +646,7 @@ fn plan_for(
 
 /// What `Scope::Auto` comes to for `scene` (on `base_override`, else its
 /// own base or the chosen one): `Full` or `Lazy`, from the recognition and
-/// the sweep's estimate alone ([`plan_for`]). `Auto` where the scene cannot
+/// the sweep's estimate alone (`plan_for`). `Auto` where the scene cannot
 /// be recognised (the analysis says why). For callers that give many
 /// variants of one scene the same analysis, so that their results compare
 /// (a sweep's samples: their candidates, so their estimates, vary with the
