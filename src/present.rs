@@ -304,15 +304,22 @@ pub fn warning(w: &Warning, n: Names) -> String {
             "{count} decisions on deep steps (is a slack zero at an end or inside a gap) rest on a double-double error estimate, not a proof: the proven bounds were too wide there (deep constructions, touching slacks)"
         ),
         Warning::MirrorsAtResolution => "every cluster the steps stand on is flat to double-double resolution, some not provably (three or more joints on a line as written): mirror images of realizations are taken to be realizations, and mirror-image components to be at distance 0 (not certified)".to_string(),
-        Warning::BranchPoint { lambda, events, ways } => {
-            let what = if *ways == 0 { "a dead end" } else { "a branch point" };
+        Warning::BranchPoint { lambda, events, ways, through } => {
             let list: Vec<String> =
                 events.iter().map(|e| format!("step {} {}", StepNo::of_index(e.step), e.kind.name())).collect();
-            format!(
-                "{what} at λ = {} ({}): {ways} ways on; each listed component follows the lowest flat step's flip there",
-                sig(*lambda),
-                list.join(", ")
-            )
+            let (at, list) = (sig(*lambda), list.join(", "));
+            if *ways == 0 && *through > 0 {
+                let beyond = if *through == 1 {
+                    "the type with that step flipped, listed as another component".to_string()
+                } else {
+                    format!("{through} types with a step flipped, listed as other components")
+                };
+                return format!(
+                    "a singular place at λ = {at} ({list}, a touch): the motion passes through it into {beyond} of the same connected set"
+                );
+            }
+            let what = if *ways == 0 { "a dead end" } else { "a branch point" };
+            format!("{what} at λ = {at} ({list}): {ways} ways on; each listed component follows the lowest flat step's flip there")
         }
         Warning::Note(x) => note(x, n),
     }

@@ -126,48 +126,75 @@ fn a_lazy_start_where_several_steps_are_flat_at_an_isolated_point_takes_every_fl
 /// [2, 8]). The walk now asks the certifier there. On B–D three steps are
 /// flat at once at λ = 6: the walk entered ---- there, read no slope for
 /// the step it entered by (a square root's), and returned a point where the
-/// sweep has [0, 6]. (On A–B and A–D, where B and D coincide for some types
-/// and the rhombus P ◁ (B, D) turns freely, the walk and the sweep still
-/// differ: the sweep leaves those types out, the walk does not.)
+/// sweep has [0, 6]. On A–B and A–D, step 3 touches folded at λ = √19,
+/// where the kite O, B, C, D folds flat, and beyond it the rhombus
+/// P ◁ (B, D) degenerates in the type walked so far: both now end the
+/// interval there (the sweep dropped ++-+ whole, the walk crossed the
+/// degenerate part).
 #[test]
 fn lazy_equals_exhaustive_on_peaucellier_bases_through_the_touch() {
     let scene = bundled::load("peaucellier").unwrap();
     let a = analyse(scene.clone(), None).unwrap();
     let id = |n: &str| a.linkage.names.iter().position(|x| x == n).unwrap();
-    for [u, w] in [["O", "C"], ["O", "P"], ["C", "P"], ["B", "D"]] {
+    for [u, w] in [["O", "C"], ["O", "P"], ["C", "P"], ["B", "D"], ["A", "B"], ["A", "D"]] {
         check_scene_on(scene.clone(), Some([id(u), id(w)])).unwrap_or_else(|e| panic!("{u}–{w}: {e}"));
     }
 }
 
 /// Peaucellier on bases A–B and A–D: in some types D lands on B (the
 /// triangle O, C, D is the triangle O, C, B), so the rhombus P ◁ (B, D) has
-/// its base joints coincide and P turns freely. The walk used to go
-/// through such a type (-+-+ on A–B, coincident all along); it now ends the
-/// component where the certifier proves the step degenerate beside the end
-/// it would enter by, as the sweep leaves such types out. (A type
-/// degenerate on only part of its interval, ++-+ on A–B below λ = √19, is
-/// still walked across that part: see the README.)
+/// its base joints coincide and P turns freely. Which types those are
+/// changes at λ = √19, where B crosses the line OC (step 3 touches folded:
+/// the kite O, B, C, D is flat). No interval, full or lazy, may be
+/// degenerate inside: the walk used to go through -+-+ on A–B (coincident
+/// all along) and across ++-+ below √19, and the sweep dropped ++-+ whole
+/// (its valid part is [√19, 5]). The full analysis has ++-+ on exactly
+/// [√19, 5] and ++++ on [3, √19], and the same 4 components in 2 connected
+/// sets as on base O–C.
 #[test]
-fn the_walk_does_not_enter_a_type_whose_rhombus_is_folded_flat_all_along() {
+fn no_peaucellier_interval_is_degenerate_inside_on_bases_a_b_and_a_d() {
     use caymos::certify::Closes;
     let scene = bundled::load("peaucellier").unwrap();
     let a = analyse(scene.clone(), None).unwrap();
     let id = |n: &str| a.linkage.names.iter().position(|x| x == n).unwrap();
+    let root19 = 19f64.sqrt();
     for [u, w] in [["A", "B"], ["A", "D"]] {
-        let s = analyse_with(scene.clone(), Some([id(u), id(w)]), Scope::Lazy).unwrap().outcome.unwrap();
-        let degenerate_at = |ty: &caymos::realize::RealizationType, l: f64| {
-            (0..ty.0.len()).any(|k| s.certifier.closes(None, &ty.0, l, k) == Closes::Degenerate)
-        };
-        for iv in &s.space.intervals {
-            let (lo, hi) = (iv.lower.lambda, iv.upper.lambda);
-            let inside = [lo + 0.01 * (hi - lo), 0.5 * (lo + hi), hi - 0.01 * (hi - lo)];
-            assert!(
-                !inside.iter().all(|&l| degenerate_at(&iv.ty, l)),
-                "{u}–{w}: {} over [{lo}, {hi}] is degenerate all along",
-                iv.ty
-            );
+        for scope in [Scope::Full, Scope::Lazy] {
+            let s = analyse_with(scene.clone(), Some([id(u), id(w)]), scope).unwrap().outcome.unwrap();
+            let degenerate_at = |ty: &caymos::realize::RealizationType, l: f64| {
+                (0..ty.0.len()).any(|k| s.certifier.closes(None, &ty.0, l, k) == Closes::Degenerate)
+            };
+            for iv in &s.space.intervals {
+                let (lo, hi) = (iv.lower.lambda, iv.upper.lambda);
+                for t in [0.01, 0.25, 0.5, 0.75, 0.99] {
+                    let l = lo + t * (hi - lo);
+                    assert!(
+                        !degenerate_at(&iv.ty, l),
+                        "{u}–{w} {scope:?}: {} over [{lo}, {hi}] degenerate at {l}",
+                        iv.ty
+                    );
+                }
+            }
+            assert!(s.space.intervals.iter().any(|iv| iv.ty.to_string() == "+--+" || iv.ty.to_string() == "-++-"));
+            if scope == Scope::Full {
+                let span = |ty: &str| {
+                    let iv = s.space.intervals.iter().find(|iv| iv.ty.to_string() == ty).expect(ty);
+                    [iv.lower.lambda, iv.upper.lambda]
+                };
+                let (split, whole) = if u == "A" && w == "B" { ("++-+", "++++") } else { ("--+-", "++++") };
+                let [lo, hi] = span(split);
+                assert!(
+                    (lo - root19).abs() <= 4.0 * f64::EPSILON * root19 && hi == 5.0,
+                    "{u}–{w}: {split} [{lo}, {hi}]"
+                );
+                let [lo, hi] = span(whole);
+                assert!(
+                    lo == 3.0 && (hi - root19).abs() <= 4.0 * f64::EPSILON * root19,
+                    "{u}–{w}: {whole} [{lo}, {hi}]"
+                );
+                assert_eq!((s.components.list.len(), s.components.connected_set_count()), (4, 2), "{u}–{w}");
+            }
         }
-        assert!(s.space.intervals.iter().any(|iv| iv.ty.to_string() == "+--+" || iv.ty.to_string() == "-++-"));
     }
 }
 

@@ -465,7 +465,9 @@ pub enum Warning {
     /// some not provably (three or more joints on a line as written): mirror
     /// pairs are taken to exist, a non-generic place ([`Mirrors::AtResolution`]).
     MirrorsAtResolution,
-    /// A branch point (`ways` > 0 ways on) or a dead end (`ways` == 0) at λ.
+    /// A branch point (`ways` > 0 ways on) or a dead end (`ways` == 0) at λ;
+    /// with `through` > 0 a singular place the motion passes, where the
+    /// listing ends a component ([`crate::motion::BranchPoint::through`]).
     BranchPoint {
         /// Where (base length).
         lambda: f64,
@@ -473,6 +475,8 @@ pub enum Warning {
         events: Vec<Event>,
         /// How many ways on (0: a dead end).
         ways: usize,
+        /// How many types go on through a touch on the other side of λ.
+        through: usize,
     },
     /// A special event met while computing the Cayley space.
     #[cfg_attr(feature = "serde", serde(untagged))]
@@ -817,7 +821,12 @@ pub fn analyse_checked(
     for b in &components.branch_points {
         push_new(
             &mut warnings,
-            Warning::BranchPoint { lambda: b.lambda, events: b.events.clone(), ways: b.options.len() },
+            Warning::BranchPoint {
+                lambda: b.lambda,
+                events: b.events.clone(),
+                ways: b.options.len(),
+                through: b.through.len(),
+            },
         );
     }
     let drawn_interval = drawn_positions

@@ -367,7 +367,7 @@ fn sweep<T: Real>(
     let hi = sweep.ids.make(top, Vec::new());
     let mut bits = Vec::with_capacity(n);
     sweep.descend(0, &mut bits, &[Piece { lo, hi, touch: false }]);
-    let mut intervals = drop_repeated_touches(sweep.out, &sweep.touches);
+    let mut intervals = join_split_runs(drop_repeated_touches(sweep.out, &sweep.touches));
     // The sweep emits types in descending order (each bit `true` first),
     // each type's intervals in λ order: reversing the types leaves the sort
     // below a check over sorted input instead of moving the intervals.
@@ -617,7 +617,19 @@ impl<T: Real> Sweep<'_, T> {
             let r = inside[g];
             match (feasible[g], feasible[g + 1]) {
                 (true, true) => {
-                    self.notes.push(Note::Tangency { lambda: r.lambda.to_f64(), event: event(&r), inside: true })
+                    self.notes.push(Note::Tangency { lambda: r.lambda.to_f64(), event: event(&r), inside: true });
+                    // A later step need not be analytic through this touch:
+                    // the vertex placed here can switch sides of its base
+                    // line (on Peaucellier's base A–B, D lies on B below
+                    // λ = √19 in type ++-+, and on B's mirror image above,
+                    // where step 3 touches folded). The run is split there,
+                    // so each side is refined by the later steps on its own,
+                    // and joined again at the leaves where both survive.
+                    if k + 1 < self.con.steps.len() {
+                        let at = self.ids.make(r.lambda, vec![event(&r)]);
+                        out.push(Piece { lo: start.take().expect("open run"), hi: at.clone(), touch: false });
+                        start = Some(at);
+                    }
                 }
                 (true, false) => {
                     let hi = self.ids.make(r.lambda, vec![event(&r)]);
@@ -829,6 +841,22 @@ fn drop_repeated_touches<T: Real>(intervals: Vec<OrientedInterval<T>>, touches: 
     };
     let drop: Vec<bool> = (0..intervals.len()).map(|i| touches.contains(&i) && repeated(&intervals[i])).collect();
     intervals.into_iter().zip(drop).filter(|(_, d)| !d).map(|(i, _)| i).collect()
+}
+
+/// The intervals with each run that `Sweep::refine` split at a touch (for
+/// the later steps) and that survived on both sides joined again. A type's
+/// intervals are emitted together in λ order, so the two halves are
+/// neighbours sharing the touch's endpoint. Joined after the repeated touch
+/// points are dropped: the split end is what such a point flips to.
+fn join_split_runs<T: Real>(intervals: Vec<OrientedInterval<T>>) -> Vec<OrientedInterval<T>> {
+    let mut out: Vec<OrientedInterval<T>> = Vec::with_capacity(intervals.len());
+    for iv in intervals {
+        match out.last_mut() {
+            Some(last) if last.ty == iv.ty && last.upper.id == iv.lower.id => last.upper = iv.upper,
+            _ => out.push(iv),
+        }
+    }
+    out
 }
 
 /// Whether a step closes at a point, from its slacks' signs there

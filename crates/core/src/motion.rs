@@ -53,6 +53,15 @@ pub struct BranchPoint {
     pub from: usize,
     /// Every interval it could continue into; the walk took the first.
     pub options: Vec<usize>,
+    /// Intervals that go on from this end on the other side of λ: a flat
+    /// step only touches zero here, and the type with its bit flipped
+    /// continues beyond (the sweep splits runs at such a touch, see
+    /// [`crate::cayley_space`]). The motion passes a singular place there
+    /// (on Peaucellier's base A–B, where the kite O, B, C, D folds flat and
+    /// D lands on B). The listing ends its component at such a place, as it
+    /// does where a touch ends an interval on another base; the connected
+    /// sets join both sides.
+    pub through: Vec<usize>,
 }
 
 /// The connected components of a Cayley space, and where the walk had no unique way on.
@@ -137,7 +146,9 @@ pub fn components(space: &CayleySpace<f64>) -> Components {
     }
     // Intervals reachable from end `side` of interval `i` (into `out`): flip
     // each flat step's bit.
-    let partners = |i: usize, side: Side, out: &mut Vec<usize>| {
+    // Intervals of the flipped types with an end `entered` at the same root
+    // as end `side` of interval `i` (into `out`).
+    let flipped_at = |i: usize, side: Side, entered: Side, out: &mut Vec<usize>| {
         out.clear();
         let e = end(&ivs[i], side);
         // Only single flips: where none continues, the end is a dead end
@@ -146,17 +157,26 @@ pub fn components(space: &CayleySpace<f64>) -> Components {
         // several bits would join components on some bases and not on
         // others; the realization space must not depend on the base.
         for ev in &e.events {
-            let Some(&(first, _)) = chains.get(&(e.id, side, TypeKey::of(&ivs[i].ty, Some(ev.step)))) else { continue };
+            let key = (e.id, entered, TypeKey::of(&ivs[i].ty, Some(ev.step)));
+            let Some(&(first, _)) = chains.get(&key) else { continue };
             let mut at = first;
             while at != usize::MAX {
-                if at / 2 != i {
+                // An isolated point has both ends at the root.
+                if at / 2 != i && !out.contains(&(at / 2)) {
                     out.push(at / 2);
                 }
                 at = next[at];
             }
         }
     };
-    let mut options = Vec::new();
+    let partners = |i: usize, side: Side, out: &mut Vec<usize>| flipped_at(i, side, side, out);
+    // Through a touch: the flipped type on the other side (see `BranchPoint::through`).
+    let through = |i: usize, side: Side, out: &mut Vec<usize>| {
+        flipped_at(i, side, side.other(), out);
+        out.retain(|&j| ivs[j].lower.lambda != ivs[j].upper.lambda);
+    };
+    let (mut options, mut beyond) = (Vec::new(), Vec::new());
+    let mut passes_touch = false;
     let mut of_interval = vec![usize::MAX; ivs.len()];
     let mut list = Vec::new();
     let mut branch_points = Vec::new();
@@ -173,12 +193,15 @@ pub fn components(space: &CayleySpace<f64>) -> Components {
         loop {
             partners(cur, leaving, &mut options);
             if options.len() != 1 {
+                through(cur, leaving, &mut beyond);
+                passes_touch |= !beyond.is_empty();
                 let e = end(&ivs[cur], leaving);
                 branch_points.push(BranchPoint {
                     lambda: e.lambda,
                     events: e.events.clone(),
                     from: cur,
                     options: options.clone(),
+                    through: beyond.clone(),
                 });
             }
             let Some(&next) = options.iter().find(|&&j| j == start || of_interval[j] == usize::MAX).or(options.first())
@@ -219,15 +242,17 @@ pub fn components(space: &CayleySpace<f64>) -> Components {
             lambda_range: [lo, hi],
         });
     }
-    // Only an end with several flat steps can join two walks: elsewhere
-    // each end has one partner, and the walk went on into it.
+    // Only an end with several flat steps can join two walks (elsewhere
+    // each end has one partner, and the walk went on into it),
+    // and a touch passed through (`BranchPoint::through`).
     let several = ivs.iter().any(|i| i.lower.events.len() > 1 || i.upper.events.len() > 1);
     let mut sets = UnionFind::new(list.len());
-    if several {
+    if several || passes_touch {
         for i in 0..ivs.len() {
             for side in [Side::Lower, Side::Upper] {
                 partners(i, side, &mut options);
-                for &j in &options {
+                through(i, side, &mut beyond);
+                for &j in options.iter().chain(&beyond) {
                     sets.join(of_interval[i], of_interval[j]);
                 }
             }
