@@ -168,8 +168,20 @@ pub enum EndpointMethod {
 #[derive(Debug, Clone, PartialEq, Serialize, JsonSchema)]
 #[serde(tag = "kind", rename_all = "snake_case")]
 pub enum ConstraintReport {
-    Bar { bar: ItemNo, joints: Vec<String> },
-    Body { body: ItemNo, joints: Vec<String> },
+    /// `line`: where the scene file declares it (absent for a scene made in code).
+    Bar {
+        bar: ItemNo,
+        joints: Vec<String>,
+        #[serde(skip_serializing_if = "Option::is_none")]
+        line: Option<usize>,
+    },
+    /// `line` as for a bar.
+    Body {
+        body: ItemNo,
+        joints: Vec<String>,
+        #[serde(skip_serializing_if = "Option::is_none")]
+        line: Option<usize>,
+    },
 }
 
 /// Why a scene is outside the handled class, joints by name.
@@ -196,10 +208,12 @@ impl OutsideReport {
                     .iter()
                     .map(|c| match *c {
                         Constraint::Bar(i) => {
-                            ConstraintReport::Bar { bar: ItemNo::of_index(i), joints: names(&l.bars[i].joints) }
+                            let line = Some(l.bars[i].line).filter(|&n| n > 0);
+                            ConstraintReport::Bar { bar: ItemNo::of_index(i), joints: names(&l.bars[i].joints), line }
                         }
                         Constraint::Body(i) => {
-                            ConstraintReport::Body { body: ItemNo::of_index(i), joints: names(&l.bodies[i]) }
+                            let line = l.body_lines.get(i).copied().filter(|&n| n > 0);
+                            ConstraintReport::Body { body: ItemNo::of_index(i), joints: names(&l.bodies[i]), line }
                         }
                     })
                     .collect(),

@@ -79,6 +79,24 @@ fn bad_input_is_one_line_naming_file_and_line_with_exit_code_1() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
+/// An over-constrained scene names the redundant bar or body with the line
+/// the file declares it on, in the text and in JSON, and exits with 2.
+#[test]
+fn a_redundant_bar_or_body_is_named_with_its_line() {
+    let dir = scratch("redundant");
+    let k4 = "bars = [[\"A\", \"B\"], [\"B\", \"C\"], [\"C\", \"A\"],\n  [\"A\", \"D\"],\n  [\"B\", \"D\"],\n  [\"C\", \"D\"]]\n[joints]\nA = [0, 0]\nB = [1, 0]\nC = [0, 1]\nD = [1, 1]\n";
+    let bodies = "bars = [[\"A\", \"D\"]]\nbodies = [[\"A\", \"B\", \"C\"],\n  [\"A\", \"B\", \"C\", \"D\"]]\n[joints]\nA = [0, 0]\nB = [1, 0]\nC = [0, 1]\nD = [1, 1]\n";
+    for (name, text, named, line) in [("k4.toml", k4, "bar C–D (line 4)", 4), ("bodies.toml", bodies, "(line 3)", 3)]
+    {
+        let path = write(&dir, name, text);
+        let out = caymos(&["report", &path]);
+        assert_eq!(out.status.code(), Some(2), "{name}");
+        assert!(stdout(&out).contains(named), "{name}: {}", stdout(&out));
+        let doc = json(&caymos(&["report", &path, "--format", "json"]));
+        assert_eq!(doc["outside"]["redundant"][0]["line"], line, "{name}: {doc}");
+    }
+}
+
 #[test]
 fn bad_arguments_exit_with_1() {
     for args in [

@@ -21,6 +21,8 @@ pub struct LinkBar {
     pub exact: Dd,
     /// Difference stated − drawn length (zero when the length is not stated).
     pub sketch_error: f64,
+    /// The 1-based line of the scene file it is declared on (0: made in code).
+    pub line: usize,
 }
 
 /// The linkage of a scene: named joints, bars, bodies, and its scale.
@@ -36,6 +38,8 @@ pub struct Linkage {
     pub bars: Vec<LinkBar>,
     /// Rigid bodies: the joints of each, 3 or more.
     pub bodies: Vec<Vec<usize>>,
+    /// Per body, the 1-based line of the scene file it is declared on (0: made in code).
+    pub body_lines: Vec<usize>,
     /// The ground joints, which the display frame keeps in place.
     pub ground: Vec<usize>,
     /// Largest bar length or body span: the unit all tolerances are relative to.
@@ -70,7 +74,7 @@ impl Linkage {
                     }
                 };
                 let length = exact.to_f64();
-                LinkBar { joints: b.joints, length, exact, sketch_error: length - d }
+                LinkBar { joints: b.joints, length, exact, sketch_error: length - d, line: b.line }
             })
             .collect();
         let bodies: Vec<Vec<usize>> = scene.bodies.iter().map(|b| b.joints.clone()).collect();
@@ -91,6 +95,7 @@ impl Linkage {
             drawn_exact,
             bars,
             bodies,
+            body_lines: scene.bodies.iter().map(|b| b.line).collect(),
             ground: scene.ground.clone(),
             scale,
         }
