@@ -23,6 +23,8 @@ pub struct LinkBar {
     pub sketch_error: f64,
     /// The 1-based line of the scene file it is declared on (0: made in code).
     pub line: usize,
+    /// Whether the scene states its length (else it is the drawn distance).
+    pub stated: bool,
 }
 
 /// The linkage of a scene: named joints, bars, bodies, and its scale.
@@ -74,7 +76,14 @@ impl Linkage {
                     }
                 };
                 let length = exact.to_f64();
-                LinkBar { joints: b.joints, length, exact, sketch_error: length - d, line: b.line }
+                LinkBar {
+                    joints: b.joints,
+                    length,
+                    exact,
+                    sketch_error: length - d,
+                    line: b.line,
+                    stated: b.length.is_some(),
+                }
             })
             .collect();
         let bodies: Vec<Vec<usize>> = scene.bodies.iter().map(|b| b.joints.clone()).collect();

@@ -7,7 +7,7 @@
 
 use std::fmt;
 
-use crate::decompose::{ClusterSet, Decomposition, Origin};
+use crate::decompose::{Decomposition, Origin};
 use crate::linkage::Linkage;
 use crate::real::{Jet, Real};
 use crate::tolerance;
@@ -466,12 +466,59 @@ impl Construction<f64> {
     }
 }
 
-/// Local coordinates of every cluster, computed up the merge tree from bar
-/// lengths and body shapes; each triangle of clusters takes its orientation
-/// from the drawing.
-fn cluster_shapes<T: Real>(linkage: &Linkage, clusters: &ClusterSet) -> Result<Vec<Shape<T>>, ShapeError> {
-    let mut shapes: Vec<Shape<T>> = Vec::with_capacity(clusters.nodes.len());
-    for node in &clusters.nodes {
+/// Local coordinates of the clusters the steps stand on, computed up the
+/// merge tree from bar lengths and body shapes; each triangle of clusters
+/// takes its orientation from the drawing. A cluster made only of bars
+/// without a stated length (and bodies) is the drawing itself, exactly: its
+/// shape is the written coordinates, not a placement through every
+/// triangle below it (whose rounding, and whose balls' radii, grow with the
+/// depth of the merge tree: a strip of 100 triangles lost its realization).
+/// Clusters no needed shape is built from are left empty.
+fn cluster_shapes<T: Real>(linkage: &Linkage, dec: &Decomposition) -> Result<Vec<Shape<T>>, ShapeError> {
+    let clusters = &dec.clusters;
+    let n = clusters.nodes.len();
+    let mut drawn = vec![false; n];
+    for (i, node) in clusters.nodes.iter().enumerate() {
+        drawn[i] = match &node.origin {
+            Origin::Bar(b) => !linkage.bars[*b].stated,
+            Origin::Body(_) => true,
+            Origin::Base | Origin::Overlap { .. } => false,
+            Origin::Triangle { parts, .. } => parts.iter().all(|&c| drawn[c]),
+        };
+    }
+    // Needed: the steps' clusters, and what a needed merge not taken from
+    // the drawing is built from (parts precede the merges they form).
+    let mut needed = vec![false; n];
+    for s in &dec.steps {
+        needed[s.cluster_u] = true;
+        needed[s.cluster_w] = true;
+    }
+    for i in (0..n).rev() {
+        if needed[i] && !drawn[i] {
+            match &clusters.nodes[i].origin {
+                Origin::Triangle { parts, .. } => parts.iter().for_each(|&c| needed[c] = true),
+                Origin::Overlap { parts } => parts.iter().for_each(|&c| needed[c] = true),
+                _ => {}
+            }
+        }
+    }
+    let mut shapes: Vec<Shape<T>> = Vec::with_capacity(n);
+    for (i, node) in clusters.nodes.iter().enumerate() {
+        if !needed[i] {
+            shapes.push(Vec::new());
+            continue;
+        }
+        if drawn[i] && node.joints.len() > 2 {
+            // Relative to the first joint in double-double (exact for
+            // coordinates of like size), then rounded to `T`.
+            let origin = linkage.drawn_exact[node.joints[0]];
+            let at = |j: usize| {
+                let p = linkage.drawn_exact[j];
+                [T::from_dd(p[0] - origin[0]), T::from_dd(p[1] - origin[1])]
+            };
+            shapes.push(node.joints.iter().map(|&j| (j, at(j))).collect());
+            continue;
+        }
         let shape = match &node.origin {
             Origin::Bar(i) => {
                 let bar = &linkage.bars[*i];
@@ -528,7 +575,7 @@ fn cluster_shapes<T: Real>(linkage: &Linkage, clusters: &ClusterSet) -> Result<V
 impl<T: Real> Construction<T> {
     /// Fix every step's lengths and member placements.
     pub fn new(linkage: &Linkage, dec: &Decomposition) -> Result<Self, ShapeError> {
-        let shapes = cluster_shapes::<T>(linkage, &dec.clusters)?;
+        let shapes = cluster_shapes::<T>(linkage, dec)?;
         let members = |c: usize, pivot: usize, apex_joint: usize| -> (T, Vec<Member<T>>) {
             let (p, q) = (shape_pos(&shapes[c], pivot), shape_pos(&shapes[c], apex_joint));
             let e = sub(q, p);
