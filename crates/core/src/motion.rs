@@ -251,7 +251,10 @@ pub fn components(space: &CayleySpace<f64>) -> Components {
         for i in 0..ivs.len() {
             for side in [Side::Lower, Side::Upper] {
                 partners(i, side, &mut options);
-                through(i, side, &mut beyond);
+                beyond.clear();
+                if passes_touch {
+                    through(i, side, &mut beyond);
+                }
                 for &j in options.iter().chain(&beyond) {
                     sets.join(of_interval[i], of_interval[j]);
                 }

@@ -477,38 +477,42 @@ impl Construction<f64> {
 fn cluster_shapes<T: Real>(linkage: &Linkage, dec: &Decomposition) -> Result<Vec<Shape<T>>, ShapeError> {
     let clusters = &dec.clusters;
     let n = clusters.nodes.len();
-    let mut drawn = vec![false; n];
+    // Per node: taken from the drawing, and needed (one block for both).
+    const DRAWN: u8 = 1;
+    const NEEDED: u8 = 2;
+    let mut flags = vec![0u8; n];
     for (i, node) in clusters.nodes.iter().enumerate() {
-        drawn[i] = match &node.origin {
+        let drawn = match &node.origin {
             Origin::Bar(b) => !linkage.bars[*b].stated,
             Origin::Body(_) => true,
             Origin::Base | Origin::Overlap { .. } => false,
-            Origin::Triangle { parts, .. } => parts.iter().all(|&c| drawn[c]),
+            Origin::Triangle { parts, .. } => parts.iter().all(|&c| flags[c] & DRAWN != 0),
         };
+        flags[i] = if drawn { DRAWN } else { 0 };
     }
     // Needed: the steps' clusters, and what a needed merge not taken from
     // the drawing is built from (parts precede the merges they form).
-    let mut needed = vec![false; n];
     for s in &dec.steps {
-        needed[s.cluster_u] = true;
-        needed[s.cluster_w] = true;
+        flags[s.cluster_u] |= NEEDED;
+        flags[s.cluster_w] |= NEEDED;
     }
     for i in (0..n).rev() {
-        if needed[i] && !drawn[i] {
-            match &clusters.nodes[i].origin {
-                Origin::Triangle { parts, .. } => parts.iter().for_each(|&c| needed[c] = true),
-                Origin::Overlap { parts } => parts.iter().for_each(|&c| needed[c] = true),
-                _ => {}
-            }
+        if flags[i] == NEEDED {
+            let parts = match &clusters.nodes[i].origin {
+                Origin::Triangle { parts, .. } => &parts[..],
+                Origin::Overlap { parts } => &parts[..],
+                _ => &[],
+            };
+            parts.iter().for_each(|&c| flags[c] |= NEEDED);
         }
     }
     let mut shapes: Vec<Shape<T>> = Vec::with_capacity(n);
     for (i, node) in clusters.nodes.iter().enumerate() {
-        if !needed[i] {
+        if flags[i] & NEEDED == 0 {
             shapes.push(Vec::new());
             continue;
         }
-        if drawn[i] && node.joints.len() > 2 {
+        if flags[i] & DRAWN != 0 && node.joints.len() > 2 {
             // Relative to the first joint in double-double (exact for
             // coordinates of like size), then rounded to `T`.
             let origin = linkage.drawn_exact[node.joints[0]];
