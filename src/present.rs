@@ -286,6 +286,9 @@ pub fn note(note: &Note, n: Names) -> String {
 /// One warning of the analysis, in words.
 pub fn warning(w: &Warning, n: Names) -> String {
     match w {
+        Warning::GroundMoves { joints: [a, b] } => format!(
+            "the ground joints {a} and {b} are in no rigid part together (no bar, body or rigid cluster holds both): their distance changes in the motion, so the display holds {a} in place and {b} on its drawn direction from {a}"
+        ),
         Warning::BarInBody { bar, body, line } => {
             let l = n.linkage;
             let at = line.map(|line| format!(", line {line}")).unwrap_or_default();

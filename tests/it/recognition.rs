@@ -237,3 +237,41 @@ proptest! {
         prop_assert_eq!(s.complexity.ccv.len(), s.dec.steps.len());
     }
 }
+
+/// Two ground joints that no rigid part holds together (here the base
+/// diagonal of a four-bar, whose length is the motion's parameter) are
+/// named in a warning: the display cannot hold both still. Ground joints
+/// joined by a bar (every bundled scene), or by a rigid cluster without a
+/// bar of their own, are not.
+#[test]
+fn ground_joints_in_no_rigid_part_together_are_warned_about() {
+    use caymos::analysis::Warning;
+    let moves = |a: &Analysis| a.warnings.iter().any(|w| matches!(w, Warning::GroundMoves { .. }));
+    let four_bar = |ground: &str| {
+        format!(
+            "base = [\"A\", \"C\"]\nground = {ground}\nbars = [[\"A\", \"B\"], [\"B\", \"C\"], [\"C\", \"D\"], [\"D\", \"A\"]]\n[joints]\nA = [0, 0]\nC = [2, 0]\nB = [0.9, 1.5]\nD = [1.2, -1]\n"
+        )
+    };
+    let a = analyse(caymos::scene::parse_scene(&four_bar("[\"A\", \"C\"]"), "g", "g").unwrap(), None).unwrap();
+    let w = a.warnings.iter().find(|w| matches!(w, Warning::GroundMoves { .. })).expect("a warning");
+    assert_eq!(*w, Warning::GroundMoves { joints: ["A".to_string(), "C".to_string()] });
+    let a = analyse(caymos::scene::parse_scene(&four_bar("[\"A\", \"B\"]"), "g", "g").unwrap(), None).unwrap();
+    assert!(!moves(&a));
+    // Two triangles A, B, X and B, C, X (rigid together, no bar A–C) and a
+    // dyad A–E–F–C: a 1-dof linkage whose rigid part holds A and C.
+    let mut b = SceneBuilder::new("braced");
+    let joints = [("A", [0.0, 0.0]), ("B", [1.0, 0.2]), ("C", [2.0, 0.0]), ("X", [1.0, -1.0])];
+    for (n, p) in joints.into_iter().chain([("E", [0.3, 1.5]), ("F", [1.8, 1.4])]) {
+        b.joint(n, p);
+    }
+    b.bar("A", "B").bar("B", "C").bar("C", "X").bar("X", "A").bar("B", "X");
+    b.bar("A", "E").bar("E", "F").bar("F", "C");
+    let mut scene = b.build();
+    scene.ground = vec![0, 2];
+    let a = analyse(scene, None).unwrap();
+    assert!(a.outcome.is_ok(), "1-dof tree-decomposable");
+    assert!(!moves(&a), "{:?}", a.warnings);
+    for s in bundled::BUNDLED {
+        assert!(!moves(&analyse(bundled::load(s.name).unwrap(), None).unwrap()), "{}", s.name);
+    }
+}

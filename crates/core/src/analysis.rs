@@ -478,6 +478,14 @@ pub enum Warning {
         /// How many types go on through a touch on the other side of λ.
         through: usize,
     },
+    /// The two ground joints are in no rigid part together (no bar, body or
+    /// rigid cluster holds both): their distance changes in the motion, so
+    /// the display holds the first in place and the second on its drawn
+    /// direction from the first, not both.
+    GroundMoves {
+        /// The two ground joints, by name.
+        joints: [String; 2],
+    },
     /// A special event met while computing the Cayley space.
     #[cfg_attr(feature = "serde", serde(untagged))]
     Note(Note),
@@ -718,6 +726,15 @@ pub fn analyse_checked(
         }
         Ok(Ok(dec)) => dec,
     };
+    if let [a, b] = linkage.ground[..] {
+        let clusters = &dec.clusters;
+        let holds = |i: usize| {
+            clusters.nodes[i].joints.binary_search(&a).is_ok() && clusters.nodes[i].joints.binary_search(&b).is_ok()
+        };
+        if !(0..clusters.nodes.len()).any(|i| clusters.is_alive(i) && holds(i)) {
+            warnings.push(Warning::GroundMoves { joints: [a, b].map(|j| linkage.names[j].clone()) });
+        }
+    }
     let complexity = timings.time("four_cycle", || four_cycle_test(&dec));
     let construction = timings
         .time("construction", || Construction::<f64>::new(&linkage, &dec))
