@@ -710,31 +710,16 @@ pub fn steps_from_base(clusters: &ClusterSet, n_joints: usize, f: [usize; 2]) ->
 /// already in a common cluster. Ordered by preference: a base from a ground
 /// joint to a joint clustered with the other ground joint (the crank
 /// parameter), then any base touching the ground, then the rest by index.
-pub fn base_candidates(clusters: &ClusterSet, linkage: &Linkage) -> Vec<[usize; 2]> {
-    let clustered = |x: usize, y: usize| clusters.containing(x).any(|c| clusters.contains(c, y));
-    let mut out = Vec::new();
-    let mut around = Vec::new();
-    for v in 0..linkage.n_joints() {
-        around.clear();
-        around.extend(clusters.containing(v));
-        for (i, &y) in around.iter().enumerate() {
-            for &z in &around[i + 1..] {
-                if clusters.single_shared(y, z) != Some(v) {
-                    continue;
-                }
-                for &a in &clusters.nodes[y].joints {
-                    for &b in &clusters.nodes[z].joints {
-                        if a == v || b == v || clustered(a, b) {
-                            continue;
-                        }
-                        out.push([a.min(b), a.max(b)]);
-                    }
-                }
-            }
-        }
-    }
+///
+/// Lazy in two tiers: the bases touching the ground are listed first (a
+/// few per pair of clusters); the rest, which pair every joint of one
+/// cluster with every joint of the other (a quarter of a million on a
+/// strip of 1000 triangles hinged in the middle), only when the first tier
+/// runs out.
+pub fn base_candidates<'a>(clusters: &'a ClusterSet, linkage: &'a Linkage) -> impl Iterator<Item = [usize; 2]> + 'a {
     let ground = &linkage.ground;
-    let rank = |[a, b]: [usize; 2]| -> usize {
+    let clustered = move |x: usize, y: usize| clusters.containing(x).any(|c| clusters.contains(c, y));
+    let rank = move |[a, b]: [usize; 2]| -> usize {
         let crank = |g: usize, t: usize| ground.contains(&g) && ground.iter().any(|&h| h != g && clustered(h, t));
         if crank(a, b) || crank(b, a) {
             0
@@ -744,13 +729,58 @@ pub fn base_candidates(clusters: &ClusterSet, linkage: &Linkage) -> Vec<[usize; 
             2
         }
     };
-    // Each pair once (its rank is a function of the pair, so equal entries are adjacent).
-    out.sort_unstable();
-    out.dedup();
-    let mut ranked: Vec<(usize, [usize; 2])> = out.into_iter().map(|p| (rank(p), p)).collect();
-    ranked.sort_unstable();
-    ranked.into_iter().map(|(_, p)| p).collect()
+    // Pairs (a ∈ y, b ∈ z) of every two clusters sharing exactly one joint
+    // v, with a, b ≠ v and not clustered; `pairs(y, z)` lists the pairs to
+    // look at for the tier.
+    let candidates = move |pairs: &PairsToTry| {
+        let (mut out, mut around, mut found) = (Vec::new(), Vec::new(), Vec::new());
+        for v in 0..linkage.n_joints() {
+            around.clear();
+            around.extend(clusters.containing(v));
+            for (i, &y) in around.iter().enumerate() {
+                for &z in &around[i + 1..] {
+                    if clusters.single_shared(y, z) != Some(v) {
+                        continue;
+                    }
+                    found.clear();
+                    pairs(&clusters.nodes[y].joints, &clusters.nodes[z].joints, &mut found);
+                    out.extend(
+                        found
+                            .iter()
+                            .filter(|&&[a, b]| a != v && b != v && !clustered(a, b))
+                            .map(|&[a, b]| [a.min(b), a.max(b)]),
+                    );
+                }
+            }
+        }
+        // Each pair once.
+        out.sort_unstable();
+        out.dedup();
+        out
+    };
+    let on_ground = |a: usize| ground.contains(&a);
+    let touching = move |ys: &[usize], zs: &[usize], found: &mut Vec<[usize; 2]>| {
+        for &g in ground {
+            if ys.contains(&g) {
+                found.extend(zs.iter().map(|&b| [g, b]));
+            }
+            if zs.contains(&g) {
+                found.extend(ys.iter().map(|&a| [a, g]));
+            }
+        }
+    };
+    let rest = move |ys: &[usize], zs: &[usize], found: &mut Vec<[usize; 2]>| {
+        for &a in ys.iter().filter(|&&a| !on_ground(a)) {
+            found.extend(zs.iter().filter(|&&b| !on_ground(b)).map(|&b| [a, b]));
+        }
+    };
+    let mut first: Vec<(usize, [usize; 2])> = candidates(&touching).into_iter().map(|p| (rank(p), p)).collect();
+    first.sort_unstable();
+    first.into_iter().map(|(_, p)| p).chain(std::iter::once_with(move || candidates(&rest)).flatten())
 }
+
+/// Which pairs (a, b) of two clusters' joints a tier of [`base_candidates`] looks at.
+type PairsToTry<'a> = dyn Fn(&[usize], &[usize], &mut Vec<[usize; 2]>) + 'a;
 
 /// Recognise the class and build the construction from the requested base,
 /// or from the preferred valid base. Other valid bases are listed only when
@@ -786,11 +816,9 @@ pub fn decompose(
             }
         },
         None => {
-            let candidates = base_candidates(&clusters, linkage);
-            let first = candidates
-                .iter()
+            let first = base_candidates(&clusters, linkage)
                 .take(MAX_BASE_CANDIDATES)
-                .find_map(|&f| steps_from_base(&clusters, n, f).map(|steps| (f, steps)));
+                .find_map(|f| steps_from_base(&clusters, n, f).map(|steps| (f, steps)));
             let Some((f, steps)) = first else { return Err(Outside::NotTreeDecomposable) };
             (f, steps, true)
         }
@@ -806,7 +834,6 @@ const MAX_BASE_CANDIDATES: usize = 4096;
 fn valid_bases(clusters: &ClusterSet, linkage: &Linkage, limit: usize) -> Vec<[usize; 2]> {
     let n = linkage.n_joints();
     base_candidates(clusters, linkage)
-        .into_iter()
         .take(MAX_BASE_CANDIDATES)
         .filter(|&f| steps_from_base(clusters, n, f).is_some())
         .take(limit)
