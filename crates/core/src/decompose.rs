@@ -87,7 +87,29 @@ impl Memberships {
         self.tail[joint] = at;
     }
 
-    /// The clusters holding `joint`, dead ones included, in creation order.
+    /// Unlink the clusters `alive` says are dead from `joint`'s list (the
+    /// others keep their order). Called for every joint of a new cluster:
+    /// the clusters it merged die then, and a joint's list stays as short as
+    /// the live clusters holding it (on a strip of merged triangles it grew
+    /// by one entry per merge, and every search at the joint walked them all).
+    fn purge(&mut self, joint: usize, alive: &[bool]) {
+        let (mut prev, mut at) = (NONE, self.head[joint]);
+        while at != NONE {
+            let (cluster, next) = self.entries[at];
+            if alive[cluster] {
+                prev = at;
+            } else if prev == NONE {
+                self.head[joint] = next;
+            } else {
+                self.entries[prev].1 = next;
+            }
+            at = next;
+        }
+        self.tail[joint] = prev;
+    }
+
+    /// The clusters holding `joint` in creation order (dead ones included
+    /// until the joint's next merge: see [`Self::purge`]).
     fn of(&self, joint: usize) -> impl Iterator<Item = usize> + '_ {
         let mut at = self.head[joint];
         std::iter::from_fn(move || {
@@ -232,6 +254,7 @@ impl ClusterSet {
         joints.dedup();
         let id = self.nodes.len();
         for &j in &joints {
+            self.by_joint.purge(j, &self.alive);
             self.by_joint.push(j, id);
         }
         self.nodes.push(ClusterNode { joints, origin });
@@ -851,5 +874,42 @@ impl Decomposition {
             .filter(|g| !same(g))
             .take(MAX_OTHER_BASES)
             .collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::parse_scene;
+
+    /// A strip of `n` triangles with the diagonal from joint n/2 left out.
+    fn strip(n: usize) -> Linkage {
+        let mut text = String::from("bars = [\n");
+        for i in 0..n - 1 {
+            text += &format!("[\"J{i}\", \"J{}\"],\n", i + 1);
+        }
+        for i in (0..n - 2).filter(|&i| i != n / 2) {
+            text += &format!("[\"J{i}\", \"J{}\"],\n", i + 2);
+        }
+        text += "]\n[joints]\n";
+        for i in 0..n {
+            text += &format!("J{i} = [{}, {}]\n", i as f64 * 0.5, (i % 2) as f64);
+        }
+        Linkage::from_scene(&parse_scene(&text, "strip.toml", "strip").unwrap())
+    }
+
+    /// Merging purges the dead clusters from the lists of the merged
+    /// cluster's joints: after the strip's halves merge, every joint lists
+    /// only live clusters (it listed one dead cluster per merge before, and
+    /// the merge search walked them all: cubic in the strip's length).
+    #[test]
+    fn a_joint_lists_only_live_clusters_after_its_merges() {
+        let clusters = classify(&strip(40)).unwrap();
+        assert_eq!(clusters.alive_ids().len(), 2, "two rigid halves");
+        for j in 0..clusters.n_joints() {
+            let listed = clusters.by_joint.of(j).count();
+            assert_eq!(listed, clusters.containing(j).count(), "joint {j}");
+            assert!((1..=2).contains(&listed), "joint {j}: {listed}");
+        }
     }
 }
