@@ -637,3 +637,52 @@ proptest! {
         check_never_panics(&String::from_utf8_lossy(&bytes));
     }
 }
+
+/// The joint named in a same-point error is the first (in file order) that
+/// is at the same point as an earlier one, and the earlier joint named is
+/// the first such: the grid search gives the pair a comparison of every
+/// pair gives (computed here with the same rule), also for points a
+/// rounding error or a tolerance apart across cell boundaries, and for a
+/// joint within the tolerance of two earlier ones that are not.
+#[test]
+fn the_same_point_error_names_the_first_pair() {
+    // B (line 5) is 0.75e-12 from A and from C, which are 1.5e-12 apart (the tolerance is 1e-12 × scale 1).
+    assert_error(
+        "bars = [[\"A\", \"Z\", 1.0]]\n[joints]\nA = [0.1, 0.1]\nC = [0.1000000000015, 0.1]\nB = [0.10000000000075, 0.1]\nZ = [0.3, 0.3]\n",
+        Some(5),
+        &["joint \"B\" is drawn at the same point as joint \"A\" (line 3)"],
+    );
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 64, ..ProptestConfig::default() })]
+
+    #[test]
+    fn the_first_same_point_pair_is_the_one_every_pair_gives(
+        points in prop::collection::vec((0u32..6, 0u32..6, -5i32..=5, -5i32..=5), 2..40)
+    ) {
+        // Lattice points 0.01 apart, moved by multiples of 3e-13 (the tolerance is 1e-12).
+        let pos: Vec<[f64; 2]> = points
+            .iter()
+            .map(|&(x, y, dx, dy)| [0.1 + 0.01 * f64::from(x) + 3e-13 * f64::from(dx), 0.1 + 0.01 * f64::from(y) + 3e-13 * f64::from(dy)])
+            .collect();
+        let mut text = String::from("bars = [[\"J0\", \"J1\", 1.0]]\n[joints]\n");
+        for (i, p) in pos.iter().enumerate() {
+            text += &format!("J{i} = [{:?}, {:?}]\n", p[0], p[1]);
+        }
+        let half = |p: [f64; 2]| p.iter().fold(0.0f64, |m, x| m.max(x.abs())) / 2.0;
+        let same = |p: [f64; 2], q: [f64; 2]| {
+            let half_distance = (p[0] / 2.0 - q[0] / 2.0).hypot(p[1] / 2.0 - q[1] / 2.0);
+            p == q || caymos::tolerance::same_drawn_point(half_distance, half(p).max(half(q)), 0.5)
+        };
+        let first = (0..pos.len()).find_map(|i| (0..i).find(|&j| same(pos[i], pos[j])).map(|j| (i, j)));
+        match (first, parse(&text)) {
+            (None, Ok(_)) => {}
+            (Some((i, j)), Err(e)) => prop_assert!(
+                e.message.starts_with(&format!("joint \"J{i}\" is drawn at the same point as joint \"J{j}\" ")),
+                "{e}"
+            ),
+            (want, got) => prop_assert!(false, "expected {want:?}, got {got:?}"),
+        }
+    }
+}

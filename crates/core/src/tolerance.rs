@@ -320,8 +320,13 @@ pub const LOOSE_ENCLOSURE: f64 = 1e-6;
 /// All three arguments are halved (so that drawings near ±f64::MAX stay
 /// finite): the points' distance, their largest |coordinate|, the scale.
 pub fn same_drawn_point(half_distance: f64, half_magnitude: f64, half_scale: f64) -> bool {
-    let resolution = DRAWN_RESOLUTION_ULPS * f64::EPSILON * half_magnitude;
-    half_distance <= COINCIDENT * half_scale || half_distance <= resolution
+    half_distance <= same_drawn_point_reach(half_magnitude, half_scale)
+}
+
+/// The largest half-distance [`same_drawn_point`] takes for the same point,
+/// for points whose largest |coordinate| is at most 2 × `half_magnitude`.
+pub fn same_drawn_point_reach(half_magnitude: f64, half_scale: f64) -> f64 {
+    (COINCIDENT * half_scale).max(DRAWN_RESOLUTION_ULPS * f64::EPSILON * half_magnitude)
 }
 
 /// A sweep keeps at most this many refinements to repeat for prefixes that
