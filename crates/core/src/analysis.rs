@@ -726,14 +726,10 @@ pub fn analyse_checked(
         }
         Ok(Ok(dec)) => dec,
     };
-    if let [a, b] = linkage.ground[..] {
-        let clusters = &dec.clusters;
-        let holds = |i: usize| {
-            clusters.nodes[i].joints.binary_search(&a).is_ok() && clusters.nodes[i].joints.binary_search(&b).is_ok()
-        };
-        if !(0..clusters.nodes.len()).any(|i| clusters.is_alive(i) && holds(i)) {
-            warnings.push(Warning::GroundMoves { joints: [a, b].map(|j| linkage.names[j].clone()) });
-        }
+    if let [a, b] = linkage.ground[..]
+        && !dec.clusters.clustered(a, b)
+    {
+        warnings.push(Warning::GroundMoves { joints: [a, b].map(|j| linkage.names[j].clone()) });
     }
     let complexity = timings.time("four_cycle", || four_cycle_test(&dec));
     let construction = timings

@@ -286,6 +286,11 @@ impl ClusterSet {
         self.nodes[id].joints.binary_search(&joint).is_ok()
     }
 
+    /// Whether a live cluster holds both joints (they are rigidly joined).
+    pub fn clustered(&self, a: usize, b: usize) -> bool {
+        self.containing(a).any(|c| self.contains(c, b))
+    }
+
     /// The joints clusters `a` and `b` share, counted up to two, and the
     /// first of them (`usize::MAX` when none): [`Self::shared`] without allocating.
     fn meet(&self, a: usize, b: usize) -> (usize, usize) {
@@ -741,7 +746,7 @@ pub fn steps_from_base(clusters: &ClusterSet, n_joints: usize, f: [usize; 2]) ->
 /// runs out.
 pub fn base_candidates<'a>(clusters: &'a ClusterSet, linkage: &'a Linkage) -> impl Iterator<Item = [usize; 2]> + 'a {
     let ground = &linkage.ground;
-    let clustered = move |x: usize, y: usize| clusters.containing(x).any(|c| clusters.contains(c, y));
+    let clustered = move |x: usize, y: usize| clusters.clustered(x, y);
     let rank = move |[a, b]: [usize; 2]| -> usize {
         let crank = |g: usize, t: usize| ground.contains(&g) && ground.iter().any(|&h| h != g && clustered(h, t));
         if crank(a, b) || crank(b, a) {
@@ -822,7 +827,7 @@ pub fn decompose(
                 if valid.is_empty() {
                     return Err(Outside::NotTreeDecomposable);
                 }
-                let why = if clusters.containing(f[0]).any(|c| clusters.contains(c, f[1])) {
+                let why = if clusters.clustered(f[0], f[1]) {
                     "its joints are already held rigidly together"
                 } else {
                     "adding it as a bar does not make the linkage buildable by ruler and compass"

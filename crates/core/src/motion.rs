@@ -144,10 +144,8 @@ pub fn components(space: &CayleySpace<f64>) -> Components {
             }
         }
     }
-    // Intervals reachable from end `side` of interval `i` (into `out`): flip
-    // each flat step's bit.
-    // Intervals of the flipped types with an end `entered` at the same root
-    // as end `side` of interval `i` (into `out`).
+    // Intervals with an end `entered` at the same root as end `side` of
+    // interval `i`, in the types with one flat step's bit flipped (into `out`).
     let flipped_at = |i: usize, side: Side, entered: Side, out: &mut Vec<usize>| {
         out.clear();
         let e = end(&ivs[i], side);
@@ -169,6 +167,7 @@ pub fn components(space: &CayleySpace<f64>) -> Components {
             }
         }
     };
+    // The walk's way on: the flipped type on the same side of λ.
     let partners = |i: usize, side: Side, out: &mut Vec<usize>| flipped_at(i, side, side, out);
     // Through a touch: the flipped type on the other side (see `BranchPoint::through`).
     let through = |i: usize, side: Side, out: &mut Vec<usize>| {
