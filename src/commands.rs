@@ -256,6 +256,10 @@ pub struct PathReport {
     pub from: RealizationOut,
     pub to: RealizationOut,
     pub same_component: bool,
+    /// In different components that meet at a branch point or a singular
+    /// place (one connected set: see `components::connected`), which the
+    /// listing of components does not pass.
+    pub same_connected_set: bool,
     pub same_type_path: bool,
     pub paths: Vec<PathOut>,
     pub closest_pair: Option<ClosestOut>,
@@ -348,6 +352,7 @@ pub fn path(linkage: &Linkage, s: &Solved, from: &str, to: &str, walk: Walk) -> 
             from: from_out,
             to: to_out,
             same_component: false,
+            same_connected_set: s.components.connected[ca] == s.components.connected[cb],
             same_type_path: false,
             paths: Vec::new(),
             closest_pair: Some(closest),
@@ -394,6 +399,7 @@ pub fn path(linkage: &Linkage, s: &Solved, from: &str, to: &str, walk: Walk) -> 
         from: from_out,
         to: to_out,
         same_component: true,
+        same_connected_set: true,
         same_type_path: ia == ib,
         paths,
         closest_pair: None,
@@ -406,7 +412,14 @@ impl PathReport {
         let r = |x: &RealizationOut| format!("{}@{} (component {})", x.ty, fmt_num(x.lambda), x.component);
         let _ = writeln!(o, "From {}  to {}", r(&self.from), r(&self.to));
         if let Some(c) = &self.closest_pair {
-            let _ = writeln!(o, "No path: the realizations lie in different components.");
+            if self.same_connected_set {
+                let _ = writeln!(
+                    o,
+                    "No path along one component: the realizations lie in different components of one connected set, which meet at a branch point or a singular place (see the report's warnings) that the listing of components does not pass."
+                );
+            } else {
+                let _ = writeln!(o, "No path: the realizations lie in different components.");
+            }
             let _ = writeln!(o, "Closest pair by Cayley distance: {}", present::full(c.distance));
             let _ = writeln!(o, "  {}  and  {}", r(&c.a), r(&c.b));
             let _ = writeln!(o, "  {}", c.certificate);

@@ -205,10 +205,27 @@ fn grashof_four_bar_components_are_mirror_images_at_distance_zero() {
 fn paths_between_components_give_the_closest_pair() {
     let (a, s) = solve(bundled::load("jansen").unwrap());
     let p = commands::path(&a.linkage, &s, "----@40", "-+--@40", walk(0.5)).unwrap();
-    assert!(!p.same_component && p.paths.is_empty());
+    assert!(!p.same_component && !p.same_connected_set && p.paths.is_empty());
     let c = p.closest_pair.expect("closest pair given");
     assert!(c.distance > 0.0 && c.lower_bound <= c.distance && c.certified);
     assert!(!c.mirror_images, "Jansen's triangles are chiral");
+}
+
+/// Components of one connected set (Peaucellier on base A–B: ---- and --+-
+/// meet where the kite folds flat, at λ = √19) have no path along one
+/// component, and the path says they are in one set; ---- and ---+ are not.
+#[test]
+fn a_path_between_components_of_one_connected_set_says_so() {
+    let scene = bundled::load("peaucellier").unwrap();
+    let a = caymos::analysis::analyse(scene.clone(), None).unwrap();
+    let id = |n: &str| a.linkage.names.iter().position(|x| x == n).unwrap();
+    let (a, s) = solve_with(scene, Some([id("A"), id("B")]), caymos::analysis::Scope::Full);
+    let p = commands::path(&a.linkage, &s, "----@3.2", "--+-@4.8", walk(0.5)).unwrap();
+    assert!(!p.same_component && p.same_connected_set && p.paths.is_empty());
+    assert!(p.to_text().contains("different components of one connected set"), "{}", p.to_text());
+    let q = commands::path(&a.linkage, &s, "----@3.2", "---+@4", walk(0.5)).unwrap();
+    assert!(!q.same_component && !q.same_connected_set);
+    assert!(q.to_text().contains("No path: the realizations lie in different components."));
 }
 
 #[test]
