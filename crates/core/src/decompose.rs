@@ -758,9 +758,10 @@ pub fn base_candidates<'a>(clusters: &'a ClusterSet, linkage: &'a Linkage) -> im
         }
     };
     // Pairs (a ∈ y, b ∈ z) of every two clusters sharing exactly one joint
-    // v, with a, b ≠ v and not clustered; `pairs(y, z)` lists the pairs to
-    // look at for the tier.
-    let candidates = move |pairs: &PairsToTry| {
+    // v, with a, b ≠ v and not clustered: those with a ground joint
+    // (`touching`), or those without.
+    let candidates = move |touching: bool| {
+        let on_ground = |a: usize| ground.contains(&a);
         let (mut out, mut around, mut found) = (Vec::new(), Vec::new(), Vec::new());
         for v in 0..linkage.n_joints() {
             around.clear();
@@ -770,8 +771,18 @@ pub fn base_candidates<'a>(clusters: &'a ClusterSet, linkage: &'a Linkage) -> im
                     if clusters.single_shared(y, z) != Some(v) {
                         continue;
                     }
+                    let (ys, zs) = (&clusters.nodes[y].joints, &clusters.nodes[z].joints);
                     found.clear();
-                    pairs(&clusters.nodes[y].joints, &clusters.nodes[z].joints, &mut found);
+                    if touching {
+                        for &g in ground {
+                            found.extend(zs.iter().filter(|_| ys.contains(&g)).map(|&b| [g, b]));
+                            found.extend(ys.iter().filter(|_| zs.contains(&g)).map(|&a| [a, g]));
+                        }
+                    } else {
+                        for &a in ys.iter().filter(|&&a| !on_ground(a)) {
+                            found.extend(zs.iter().filter(|&&b| !on_ground(b)).map(|&b| [a, b]));
+                        }
+                    }
                     out.extend(
                         found
                             .iter()
@@ -786,29 +797,10 @@ pub fn base_candidates<'a>(clusters: &'a ClusterSet, linkage: &'a Linkage) -> im
         out.dedup();
         out
     };
-    let on_ground = |a: usize| ground.contains(&a);
-    let touching = move |ys: &[usize], zs: &[usize], found: &mut Vec<[usize; 2]>| {
-        for &g in ground {
-            if ys.contains(&g) {
-                found.extend(zs.iter().map(|&b| [g, b]));
-            }
-            if zs.contains(&g) {
-                found.extend(ys.iter().map(|&a| [a, g]));
-            }
-        }
-    };
-    let rest = move |ys: &[usize], zs: &[usize], found: &mut Vec<[usize; 2]>| {
-        for &a in ys.iter().filter(|&&a| !on_ground(a)) {
-            found.extend(zs.iter().filter(|&&b| !on_ground(b)).map(|&b| [a, b]));
-        }
-    };
-    let mut first: Vec<(usize, [usize; 2])> = candidates(&touching).into_iter().map(|p| (rank(p), p)).collect();
+    let mut first: Vec<(usize, [usize; 2])> = candidates(true).into_iter().map(|p| (rank(p), p)).collect();
     first.sort_unstable();
-    first.into_iter().map(|(_, p)| p).chain(std::iter::once_with(move || candidates(&rest)).flatten())
+    first.into_iter().map(|(_, p)| p).chain(std::iter::once_with(move || candidates(false)).flatten())
 }
-
-/// Which pairs (a, b) of two clusters' joints a tier of [`base_candidates`] looks at.
-type PairsToTry<'a> = dyn Fn(&[usize], &[usize], &mut Vec<[usize; 2]>) + 'a;
 
 /// Recognise the class and build the construction from the requested base,
 /// or from the preferred valid base. Other valid bases are listed only when

@@ -647,16 +647,6 @@ impl<'a, T: Real> Walker<'a, T> {
         })
     }
 
-    /// Whether a step after `k` of type `bits` is proven degenerate
-    /// ([`Closes::Degenerate`]) just beyond step k's touch at `lambda` in
-    /// direction `dir` (on Peaucellier's base A–B, type ++-+ below λ = √19,
-    /// where D lands on B).
-    fn degenerate_past_touch(&self, bits: &[bool], k: usize, lambda: T, dir: T) -> bool {
-        let beyond = self.beside(lambda, dir).to_f64();
-        (k + 1..self.con.steps.len())
-            .any(|j| self.kinds(j).len() == 1 && self.cert.closes(None, bits, beyond, j) == Closes::Degenerate)
-    }
-
     /// A λ just beside an end at `lambda`, in direction `dir` (√FEASIBLE of
     /// the scale away): where a type entered there is tried.
     fn beside(&self, lambda: T, dir: T) -> T {
@@ -1199,7 +1189,9 @@ impl<'a, T: Real> Walker<'a, T> {
                 // Beyond a touch a later step may degenerate (the vertex the
                 // touching step places switches sides there): the interval
                 // ends at the touch, as the sweep splits its runs there.
-                self.degenerate_past_touch(along.bits, k, m, dir).then_some(m)
+                // (On Peaucellier's base A–B, type ++-+ below λ = √19, where D lands on B.)
+                let at = self.probe(along.bits, m);
+                self.degenerate_beside(along.bits, &at, dir).map(|_| m)
             }
             Extremum::Below => Some(self.locate(along, (a, sa), (m, sm))),
         }
