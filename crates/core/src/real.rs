@@ -3,6 +3,7 @@
 //! arithmetic, used to measure the f64 error) and in [`Jet`] (value plus first
 //! and second derivative, for exact sign tests of a slack at its root).
 
+use crate::realize::P2;
 use std::fmt::Debug;
 use std::ops::{Add, Div, Mul, Neg, Sub};
 
@@ -61,6 +62,19 @@ pub trait Real:
     /// where a division costs far more than a product ([`Ball`], [`Dd`],
     /// and jets over f64); `None`: always scaled.
     const HYPOT_SQUARES: Option<[f64; 2]> = None;
+    /// The apex of a triangle from its base vector `e` and length `d`
+    /// ([`crate::realize::apex_flat`], which every type but jets uses).
+    fn apex(
+        pu: P2<Self>,
+        e: P2<Self>,
+        d: Self,
+        sum_diff: [Self; 2],
+        plus: bool,
+        tol: f64,
+        flat: bool,
+    ) -> Result<P2<Self>, Option<f64>> {
+        crate::realize::apex_flat(pu, e, d, sum_diff, plus, tol, flat)
+    }
     /// √(x² + y²) without squaring a length: scaled by the larger of |x|, |y|
     /// so that scenes near 1e±300 neither overflow nor underflow; squared
     /// directly within [`Self::HYPOT_SQUARES`] (two divisions fewer).
@@ -69,24 +83,29 @@ pub trait Real:
     /// 0, a jet without slope or curvature) leaves the other's magnitude,
     /// exactly: a base distance on the base is λ itself.
     fn hypot(x: Self, y: Self) -> Self {
-        let (ax, ay) = (x.abs(), y.abs());
-        if y == Self::zero() {
-            return ax;
-        }
-        if x == Self::zero() {
-            return ay;
-        }
-        let m = if ax > ay { ax } else { ay };
-        if m.partial_cmp(&Self::zero()) != Some(std::cmp::Ordering::Greater) {
-            return m;
-        }
-        let big = m.to_f64();
-        if Self::HYPOT_SQUARES.is_some_and(|[lo, hi]| big > lo && big < hi) {
-            return (x * x + y * y).sqrt();
-        }
-        let (u, v) = (x / m, y / m);
-        m * (u * u + v * v).sqrt()
+        generic_hypot(x, y)
     }
+}
+
+/// [`Real::hypot`]'s formula, operation by operation in `T`.
+fn generic_hypot<T: Real>(x: T, y: T) -> T {
+    let (ax, ay) = (x.abs(), y.abs());
+    if y == T::zero() {
+        return ax;
+    }
+    if x == T::zero() {
+        return ay;
+    }
+    let m = if ax > ay { ax } else { ay };
+    if m.partial_cmp(&T::zero()) != Some(std::cmp::Ordering::Greater) {
+        return m;
+    }
+    let big = m.to_f64();
+    if T::HYPOT_SQUARES.is_some_and(|[lo, hi]| big > lo && big < hi) {
+        return (x * x + y * y).sqrt();
+    }
+    let (u, v) = (x / m, y / m);
+    m * (u * u + v * v).sqrt()
 }
 
 impl Real for f64 {
@@ -321,6 +340,33 @@ impl<T: Real> Real for Jet<T> {
     const UNIT_ROUNDOFF: f64 = T::UNIT_ROUNDOFF;
     const APEX_BY_RECIPROCAL: bool = T::APEX_BY_RECIPROCAL;
     const HYPOT_SQUARES: Option<[f64; 2]> = T::HYPOT_SQUARES;
+    /// Derivatives through d alone ([`crate::realize::apex_jet`]).
+    fn apex(
+        pu: P2<Self>,
+        e: P2<Self>,
+        d: Self,
+        sum_diff: [Self; 2],
+        plus: bool,
+        tol: f64,
+        flat: bool,
+    ) -> Result<P2<Self>, Option<f64>> {
+        crate::realize::apex_jet(pu, e, d, sum_diff, plus, tol, flat)
+    }
+    /// Where [`Real::hypot`] squares directly, the value as it computes it
+    /// and the derivatives of r = √(x² + y²) directly: r′ = (x·x′ + y·y′)/r,
+    /// r″ = (x′² + x·x″ + y′² + y·y″ − r′²)/r (a jet product per square
+    /// computes the same sums less directly); elsewhere that formula.
+    fn hypot(x: Self, y: Self) -> Self {
+        let big = x.v.abs().to_f64().max(y.v.abs().to_f64());
+        let direct = x != Self::zero() && y != Self::zero();
+        if !(direct && T::HYPOT_SQUARES.is_some_and(|[lo, hi]| big > lo && big < hi)) {
+            return generic_hypot(x, y);
+        }
+        let v = (x.v * x.v + y.v * y.v).sqrt();
+        let d = (x.v * x.d + y.v * y.d) / v;
+        let s = (x.d * x.d + x.v * x.s + y.d * y.d + y.v * y.s - d * d) / v;
+        Jet { v, d, s }
+    }
     fn from_f64(x: f64) -> Self {
         Jet::constant(T::from_f64(x))
     }
@@ -652,6 +698,25 @@ impl<T: Real> Real for Ball<T> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Jets' direct hypot against the generic formula in jet arithmetic:
+    /// the same value, the same derivatives to rounding; an exactly zero
+    /// component still leaves the other's magnitude.
+    #[test]
+    fn jet_hypot_matches_the_generic_formula() {
+        for scale in [1e-120, 1.0, 3e5, 1e120] {
+            for (x, y) in [(0.3, 0.4), (-2.0, 1e-3), (1.0, -1.0), (5e-9, 7.0)] {
+                let x = Jet { v: x * scale, d: 0.7, s: -0.2 / scale };
+                let y = Jet { v: y * scale, d: -0.1, s: 0.9 / scale };
+                let (fast, slow) = (Jet::hypot(x, y), generic_hypot(x, y));
+                assert_eq!(fast.v, slow.v);
+                assert!((fast.d - slow.d).abs() <= 1e-12 * slow.d.abs().max(1.0));
+                assert!((fast.s - slow.s).abs() <= 1e-9 * slow.s.abs().max(1.0 / scale));
+            }
+        }
+        let x = Jet { v: -3.0, d: 1.0, s: 0.5 };
+        assert_eq!(Jet::hypot(x, Jet::constant(0.0)), -x);
+    }
 
     #[test]
     fn double_double_is_much_finer_than_f64() {

@@ -337,18 +337,45 @@ fn sum_diff<T: Real>(r1: T, r2: T) -> [T; 2] {
 /// [`apex`] from the base vector `e = pw − pu` and its length `d = |e|`
 /// (computed once by the caller, which also records d as the step's base
 /// distance) and the sides as [r1 + r2, r1 − r2] ([`sum_diff`]), optionally
-/// forcing the triangle flat (height zero).
-fn apex_flat<T: Real>(
+/// forcing the triangle flat (height zero). Each type computes it through
+/// [`Real::apex`] (jets carry their derivatives through d alone).
+pub(crate) fn apex_flat<T: Real>(
     pu: P2<T>,
+    e: P2<T>,
+    d: T,
+    sum_diff: [T; 2],
+    plus: bool,
+    tol: f64,
+    flat: bool,
+) -> Result<P2<T>, Option<f64>> {
+    let Apex { along, h, ex, ey, .. } = apex_parts(e, d, sum_diff, plus, tol, flat)?;
+    Ok([pu[0] + along * ex - h * ey, pu[1] + along * ey + h * ex])
+}
+
+/// The apex as `pu + along·(ex, ey) + h·(−ey, ex)`, with (ex, ey) = e/d and
+/// h signed by the orientation; `h2` = (h/d)² (clamped slacks count zero).
+struct Apex<T> {
+    along: T,
+    h: T,
+    ex: T,
+    ey: T,
+    h2: T,
+    /// A slack below zero was clamped to a flat triangle.
+    clamped: bool,
+}
+
+/// [`apex_flat`]'s numbers, before they are combined.
+fn apex_parts<T: Real>(
     e: P2<T>,
     d: T,
     [sum, diff]: [T; 2],
     plus: bool,
     tol: f64,
     flat: bool,
-) -> Result<P2<T>, Option<f64>> {
+) -> Result<Apex<T>, Option<f64>> {
     let [stretch, fold, gap] = closing(d, [sum, diff], tol)?;
     let zero = T::zero();
+    let clamped = stretch < zero || fold < zero;
     // h = d·√(dimensionless product): no product of lengths, so no overflow
     // or underflow at any scale f64 can represent.
     // 1/d keeps double-double precision only while its low part is normal.
@@ -367,7 +394,67 @@ fn apex_flat<T: Real>(
     };
     let h = if flat { zero } else { d * h2.sqrt() };
     let h = if plus { h } else { -h };
-    Ok([pu[0] + along * ex - h * ey, pu[1] + along * ey + h * ex])
+    Ok(Apex { along, h, ex, ey, h2, clamped })
+}
+
+/// [`apex_flat`] for jets: the values are the generic formula's, operation
+/// for operation (the same numbers a plain realization gives); the
+/// derivatives come from writing the apex as `pu + F(d)·e + G(d)·(−e₁, e₀)`,
+/// where F = along/d = ½ + σδ/2 and G = ±h/d = ±√q depend on d alone
+/// (σ = (r1 + r2)/d, δ = (r1 − r2)/d, q = (σ² − 1)(1 − δ²)/4), so each is
+/// one scalar chain rule instead of a jet operation per step of the
+/// formula (the hot path of every jet realization: the lazy walk's probes).
+/// With ρ₁ = d′/d, ρ₂ = d″/d: F′ = (dF_d)ρ₁ and F″ = (d²F_dd)ρ₁² + (dF_d)ρ₂,
+/// where dF_d = −σδ, d²F_dd = 3σδ; likewise G from dq_d = σ²δ² − (σ² + δ²)/2
+/// and d²q_dd = 3(σ² + δ²)/2 − 5σ²δ² through G = √q. Every quantity is
+/// dimensionless (no product of lengths). A clamped slack has no
+/// derivative (NaN, as the generic jet gives); a forced flat triangle has
+/// G ≡ 0.
+pub(crate) fn apex_jet<T: Real>(
+    pu: P2<Jet<T>>,
+    e: P2<Jet<T>>,
+    d: Jet<T>,
+    [sum, diff]: [Jet<T>; 2],
+    plus: bool,
+    tol: f64,
+    flat: bool,
+) -> Result<P2<Jet<T>>, Option<f64>> {
+    let v = |p: P2<Jet<T>>| [p[0].v, p[1].v];
+    let parts = apex_parts(v(e), d.v, [sum.v, diff.v], plus, tol, flat)?;
+    let pu_v = v(pu);
+    let x = pu_v[0] + parts.along * parts.ex - parts.h * parts.ey;
+    let y = pu_v[1] + parts.along * parts.ey + parts.h * parts.ex;
+    let (one, two) = (T::from_f64(1.0), T::from_f64(2.0));
+    let (rho1, rho2) = (d.d / d.v, d.s / d.v);
+    let (sigma, delta) = (sum.v / d.v, diff.v / d.v);
+    let sd = sigma * delta;
+    let f = (one + sd) / two;
+    let (f1, f2) = (-(sd * rho1), T::from_f64(3.0) * sd * rho1 * rho1 - sd * rho2);
+    let (g, g1, g2) = if flat {
+        (T::zero(), T::zero(), T::zero())
+    } else if parts.clamped {
+        let nan = T::from_f64(f64::NAN);
+        (T::zero(), nan, nan)
+    } else {
+        let (ss, dd) = (sigma * sigma, delta * delta);
+        let dq = ss * dd - (ss + dd) / two;
+        let ddq = T::from_f64(1.5) * (ss + dd) - T::from_f64(5.0) * ss * dd;
+        let g = parts.h2.sqrt();
+        let dg = dq / (two * g);
+        let ddg = (ddq - two * dg * dg) / (two * g);
+        let (g1, g2) = (dg * rho1, ddg * rho1 * rho1 + dg * rho2);
+        if plus { (g, g1, g2) } else { (-g, -g1, -g2) }
+    };
+    let [e0, e1] = e;
+    let first = |p: Jet<T>, a: Jet<T>, b: Jet<T>, sign: T| p.d + f1 * a.v + f * a.d + sign * (g1 * b.v + g * b.d);
+    let second = |p: Jet<T>, a: Jet<T>, b: Jet<T>, sign: T| {
+        p.s + f2 * a.v + two * f1 * a.d + f * a.s + sign * (g2 * b.v + two * g1 * b.d + g * b.s)
+    };
+    let minus = -one;
+    Ok([
+        Jet { v: x, d: first(pu[0], e0, e1, minus), s: second(pu[0], e0, e1, minus) },
+        Jet { v: y, d: first(pu[1], e1, e0, one), s: second(pu[1], e1, e0, one) },
+    ])
 }
 
 /// Whether the triangle on a base of length `d` with sides [r1 + r2, r1 − r2]
@@ -883,7 +970,7 @@ impl<T: Real> Construction<T> {
         if s.first_reads.apex > reach {
             return (dk, closing(dk, s.sum_diff, tol).map(|_| ()).map_err(why));
         }
-        let v = match apex_flat(pos[s.u], e, dk, s.sum_diff, plus, tol, flat) {
+        let v = match T::apex(pos[s.u], e, dk, s.sum_diff, plus, tol, flat) {
             Ok(v) => v,
             Err(e) => return (dk, Err(why(e))),
         };
@@ -989,4 +1076,86 @@ pub fn bar_residual(linkage: &Linkage, pos: &[Point2<f64>]) -> f64 {
         }
     }
     worst
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The jet apex's shortcut (derivatives through d alone) against the
+    /// generic formula carried through jet arithmetic step by step: the same
+    /// values, bit for bit, and the same derivatives to rounding, over
+    /// triangles near and far from flat, both orientations, every scale.
+    #[test]
+    fn jet_apex_matches_the_generic_jet_formula() {
+        let close = |a: f64, b: f64, size: f64| (a - b).abs() <= 1e-9 * size;
+        let mut checked = 0;
+        for scale in [1e-150, 1e-3, 1.0, 7.0e4, 1e150] {
+            for (r1, r2) in [(1.0, 1.3), (2.0, 0.7), (1.0, 1.0), (0.45, 0.6)] {
+                for t in [0.001, 0.3, 0.5, 0.77, 0.999_999] {
+                    let (lo, hi) = (f64::abs(r1 - r2), r1 + r2);
+                    let d = lo + (hi - lo) * t;
+                    if d <= 0.0 {
+                        continue;
+                    }
+                    // A moving base: pu and pw with slopes and curvatures.
+                    let j = |v: f64, d: f64, s: f64| Jet { v: v * scale, d, s: s / scale };
+                    let pu = [j(0.3, 0.2, -0.1), j(-0.4, 0.05, 0.3)];
+                    let (a, b) = (0.6f64, 0.8f64);
+                    let pw = [pu[0] + j(d * a, 0.7, 0.2), pu[1] + j(d * b, -0.3, 0.1)];
+                    let e = sub(pw, pu);
+                    let dk = norm(e);
+                    let sd = sum_diff(Jet::constant(r1 * scale), Jet::constant(r2 * scale));
+                    // The same base in f64 at λ-offset t (the jets' Taylor polynomials).
+                    let at = |p: P2<Jet<f64>>, t: f64| p.map(|c| c.v + c.d * t + c.s * t * t / 2.0);
+                    for plus in [true, false] {
+                        let fast = apex_jet(pu, e, dk, sd, plus, 0.0, false).expect("closes");
+                        // Independent: central differences of the f64 apex (away
+                        // from flat, where a step of h keeps the triangle closed).
+                        let h = 1e-4 * scale;
+                        let away = t > 0.1 && t < 0.9;
+                        let f64_apex =
+                            |t: f64| apex(at(pu, t), at(pw, t), r1 * scale, r2 * scale, plus, 0.0).expect("closes");
+                        let differences = away.then(|| (f64_apex(-h), f64_apex(0.0), f64_apex(h)));
+                        for (i, (a, m, b)) in (0..2).flat_map(|i| differences.map(|abc| (i, abc))) {
+                            let (slope, curvature) = ((b[i] - a[i]) / (2.0 * h), (b[i] - 2.0 * m[i] + a[i]) / (h * h));
+                            let size = fast[i].d.abs().max(1.0);
+                            assert!(
+                                (fast[i].d - slope).abs() <= 1e-4 * size,
+                                "slope {} vs {slope} (scale {scale}, t {t})",
+                                fast[i].d
+                            );
+                            let size = fast[i].s.abs().max(1.0 / scale);
+                            let off = (fast[i].s - curvature).abs();
+                            assert!(
+                                off <= 1e-3 * size,
+                                "curvature {} vs {curvature} (scale {scale}, t {t})",
+                                fast[i].s
+                            );
+                        }
+                        let slow = apex_flat(pu, e, dk, sd, plus, 0.0, false).expect("closes");
+                        for (f, s) in fast.iter().zip(&slow) {
+                            assert_eq!(f.v, s.v, "value at scale {scale}, t {t}");
+                            // The generic formula overflows in its curvature at
+                            // 1e-150 (products of 1/length terms); the shortcut,
+                            // dimensionless, does not: compare where it is finite.
+                            if !(s.d.is_finite() && s.s.is_finite()) {
+                                assert!(scale < 1e-100, "the generic jet overflowed at scale {scale}");
+                                continue;
+                            }
+                            let (sd1, ss) = (s.d.abs().max(1.0), s.s.abs().max(1.0 / scale));
+                            assert!(close(f.d, s.d, sd1), "slope {} vs {} (scale {scale}, t {t})", f.d, s.d);
+                            assert!(close(f.s, s.s, ss), "curvature {} vs {} (scale {scale}, t {t})", f.s, s.s);
+                            checked += 1;
+                        }
+                    }
+                    // Forced flat: no height, and so no height derivatives.
+                    let fast = apex_jet(pu, e, dk, sd, true, 0.0, true).expect("closes");
+                    let slow = apex_flat(pu, e, dk, sd, true, 0.0, true).expect("closes");
+                    assert!(fast.iter().zip(&slow).all(|(f, s)| f.v == s.v && close(f.d, s.d, s.d.abs().max(1.0))));
+                }
+            }
+        }
+        assert!(checked > 300, "{checked} values compared");
+    }
 }
