@@ -7,6 +7,7 @@
 
 use std::collections::BTreeMap;
 use std::hint::black_box;
+use std::sync::Arc;
 use std::time::Instant;
 
 use serde::Serialize;
@@ -254,14 +255,15 @@ pub fn analysis_row(scene: &crate::scene::Scene, repeat: usize) -> Option<Analys
 /// observable) and each phase's time.
 pub fn full_analysis_phases(scene: &crate::scene::Scene, requested: Option<[usize; 2]>) -> (usize, Timings) {
     let mut t = Timings::default();
-    let linkage = t.time("linkage", || crate::linkage::Linkage::from_scene(scene));
+    let linkage = Arc::new(t.time("linkage", || crate::linkage::Linkage::from_scene(scene)));
     let Ok(Ok(dec)) = t.time("decompose", || crate::decompose::decompose(&linkage, requested)) else {
         return (0, t);
     };
+    let dec = Arc::new(dec);
     let cx = t.time("four_cycle", || crate::complexity::four_cycle_test(&dec));
     let built = t.time("construction", || {
         let con = Construction::<f64>::new(&linkage, &dec).ok()?;
-        let cert = crate::certify::Certifier::new(&linkage, &dec)?;
+        let cert = crate::certify::Certifier::shared(linkage.clone(), dec.clone())?;
         let drawn = crate::realize::drawn_realization(&linkage, &dec);
         Some((con, cert, drawn))
     });

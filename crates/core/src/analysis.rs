@@ -1,6 +1,7 @@
 //! The one entry point both the report and the terminal UI use: scene in,
 //! everything the solver knows about it out.
 
+use std::sync::Arc;
 use std::time::Instant;
 
 use crate::cayley_space::{
@@ -97,7 +98,7 @@ pub enum Scope {
 #[derive(Debug, Clone)]
 pub struct Solved {
     /// The base and the construction steps.
-    pub dec: Decomposition,
+    pub dec: Arc<Decomposition>,
     /// The four-cycle test: low Cayley complexity, the complete Cayley vector, the carriers.
     pub complexity: Complexity,
     /// The construction in f64: every step's lengths and member placements.
@@ -591,7 +592,7 @@ pub struct Analysis {
     /// The scene as parsed.
     pub scene: Scene,
     /// The linkage the scene states.
-    pub linkage: Linkage,
+    pub linkage: Arc<Linkage>,
     /// The analysis, or why the linkage is outside the handled class.
     pub outcome: Result<Solved, Outside>,
     /// Things the user should know about the input, as data.
@@ -699,7 +700,7 @@ pub fn analyse_checked(
     check: SelfCheck,
 ) -> Result<Analysis, SceneError> {
     let mut timings = Timings::default();
-    let linkage = timings.time("linkage", || Linkage::from_scene(&scene));
+    let linkage = Arc::new(timings.time("linkage", || Linkage::from_scene(&scene)));
     let (requested, source) = match (base_override, scene.base) {
         (Some(b), _) => (Some(b), BaseSource::CommandLine),
         (None, Some((b, _))) => (Some(b), BaseSource::Scene),
@@ -724,7 +725,7 @@ pub fn analyse_checked(
             }
             return Err(err);
         }
-        Ok(Ok(dec)) => dec,
+        Ok(Ok(dec)) => Arc::new(dec),
     };
     if let [a, b] = linkage.ground[..]
         && !dec.clusters.clustered(a, b)
@@ -735,7 +736,8 @@ pub fn analyse_checked(
     let construction = timings
         .time("construction", || Construction::<f64>::new(&linkage, &dec))
         .map_err(|e| scene.error_at(None, e.0))?;
-    let certifier = Certifier::new(&linkage, &dec).expect("the f64 construction succeeded, so the ball ones do");
+    let certifier =
+        Certifier::shared(linkage.clone(), dec.clone()).expect("the f64 construction succeeded, so the ball ones do");
     let drawn = drawn_realization(&linkage, &dec);
     warnings.extend(drawn.flat_steps.iter().map(|&step| Warning::FlatInDrawing { step }));
     // A sketch whose drawn λ its type cannot reach has no start for the walk:

@@ -439,8 +439,13 @@ impl<T: Real> Sweep<'_, T> {
     }
 
     /// d_k at λ for the prefix `bits`, with its first and second derivative
-    /// (realized into the sweep's one block of positions).
+    /// (realized into the sweep's one block of positions). A step on the
+    /// base has d_k = λ: nothing to realize (the sweep asks only where the
+    /// steps before k close).
     fn distance(&self, k: usize, bits: &[bool], lambda: T) -> Option<Jet<T>> {
+        if self.con.on_base(k) {
+            return Some(Jet::variable(lambda));
+        }
         base_distance_at(&self.jet, &mut self.positions.borrow_mut(), bits, k, Jet::variable(lambda))
     }
 

@@ -23,6 +23,7 @@
 //! bracket with the flat steps placed exactly flat — the realization at λ*.
 
 use std::cell::{Cell, OnceCell, RefCell};
+use std::sync::Arc;
 
 use crate::decompose::Decomposition;
 use crate::inthash::IntMap;
@@ -60,8 +61,10 @@ pub struct Certifier {
     f64_balls: Construction<Ball<f64>>,
     f64_plain: Construction<f64>,
     dd: OnceCell<DdConstructions>,
-    linkage: Linkage,
-    dec: Decomposition,
+    /// Shared with the analysis (the double-double constructions are built
+    /// from them on first use).
+    linkage: Arc<Linkage>,
+    dec: Arc<Decomposition>,
     /// Per step: the ways it can stop closing (see [`Certifier::kinds`]).
     kinds: Vec<&'static [Kind]>,
     /// Proven end brackets already searched, keyed by [`BracketKey`]
@@ -281,14 +284,20 @@ pub struct At<'a> {
 impl Certifier {
     /// The construction in every arithmetic a decision may need; `None` when a cluster's stated lengths do not close.
     pub fn new(linkage: &Linkage, dec: &Decomposition) -> Option<Self> {
-        let f64_balls: Construction<Ball<f64>> = Construction::new(linkage, dec).ok()?;
-        let f64_plain = Construction::new(linkage, dec).ok()?;
+        Self::shared(Arc::new(linkage.clone()), Arc::new(dec.clone()))
+    }
+
+    /// [`Self::new`] on a linkage and decomposition the caller keeps too
+    /// (no copy of either).
+    pub fn shared(linkage: Arc<Linkage>, dec: Arc<Decomposition>) -> Option<Self> {
+        let f64_balls: Construction<Ball<f64>> = Construction::new(&linkage, &dec).ok()?;
+        let f64_plain = Construction::new(&linkage, &dec).ok()?;
         let mut cert = Certifier {
             f64_balls,
             f64_plain,
             dd: OnceCell::new(),
-            linkage: linkage.clone(),
-            dec: dec.clone(),
+            linkage,
+            dec,
             kinds: Vec::new(),
             brackets: RefCell::new(IntMap::default()),
             refined: RefCell::new(IntMap::default()),
@@ -297,7 +306,7 @@ impl Certifier {
         // Unequal sides proven in f64 balls are unequal in double-double
         // balls too (a narrower enclosure of the same number); only sides
         // f64 cannot separate need the double-double construction.
-        let kinds = (0..dec.steps.len())
+        let kinds = (0..cert.dec.steps.len())
             .map(|k| {
                 let s = &cert.f64_balls.steps[k];
                 let unequal = (s.r1 - s.r2).sign().is_some() || {
@@ -397,6 +406,9 @@ impl Certifier {
         at: At,
         questions: [(usize, Kind); N],
     ) -> [Sign; N] {
+        if let Some(signs) = self.on_base_signs(at, &questions) {
+            return signs;
+        }
         let upto = questions.iter().map(|&(k, _)| k).max().unwrap_or(0);
         if let Some(mask) = flat_mask(at.events)
             && upto < 128
@@ -415,6 +427,32 @@ impl Certifier {
         }
         let signs = self.slack_signs_in(Some(prefixes), bits, at, &questions);
         std::array::from_fn(|i| signs[i])
+    }
+
+    /// The signs of questions about steps standing on the base, proven
+    /// without a realization: there d = λ, so a slack is λ against the
+    /// step's target. λ is exact inside an interval; at an end whose first
+    /// flat step stands on the base, it is that step's target exactly (its
+    /// ball from the lengths as written). `None` where a question is about
+    /// another step, about a step flat at `at`, or is not proven so (the
+    /// general path decides it).
+    fn on_base_signs<const N: usize>(&self, at: At, questions: &[(usize, Kind); N]) -> Option<[Sign; N]> {
+        let con = &self.f64_balls;
+        let lambda = match at.events.first() {
+            None => Ball::exact(at.lambda),
+            Some(e) if con.on_base(e.step) => e.kind.target(con.steps[e.step].r1, con.steps[e.step].r2),
+            Some(_) => return None,
+        };
+        let flat_here = |k: usize, kind: Kind| at.events.iter().any(|e| e.step == k && e.kind == kind);
+        let mut signs = [Sign::Zero; N];
+        for (sign, &(k, kind)) in signs.iter_mut().zip(questions) {
+            if !con.on_base(k) || flat_here(k, kind) {
+                return None;
+            }
+            let s = &con.steps[k];
+            *sign = Sign::of(kind.slack_value(s.r1, s.r2, lambda).sign())?;
+        }
+        Some(signs)
     }
 
     /// [`Self::slack_signs`], realizing in f64 balls from the prefixes kept
