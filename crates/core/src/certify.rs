@@ -631,6 +631,12 @@ impl Certifier {
     /// that step's slack; inside an interval, λ itself (exact).
     fn bracket<T: Real>(&self, con: &Construction<Ball<T>>, bits: &[bool], at: At, lambda: Dd) -> Option<Ball<T>> {
         let Some(&event) = at.events.first() else { return Some(Ball::exact(T::from_dd(lambda))) };
+        // A step on the base is flat where λ is its target: the ball of that
+        // target from the lengths as written encloses the end (no search).
+        if con.on_base(event.step) {
+            let s = &con.steps[event.step];
+            return Some(event.kind.target(s.r1, s.r2));
+        }
         // The search depends only on the bits before the flat step: cache it
         // (every later step asks about the same end).
         let key = prefix_word(bits, event.step).map(|prefix| {
@@ -702,6 +708,11 @@ impl Certifier {
     /// Each end is located once per type prefix (cached, see `refined`).
     fn refine_dd(&self, bits: &[bool], at: At, lambda: Dd) -> Dd {
         let Some(&event) = at.events.first() else { return lambda };
+        // A step on the base is flat at its target (in double-double).
+        if let Some(dd) = self.dd_constructions().filter(|dd| dd.plain.on_base(event.step)) {
+            let s = &dd.plain.steps[event.step];
+            return event.kind.target(s.r1, s.r2);
+        }
         let key = prefix_word(bits, event.step).map(|p| ([lambda.hi.to_bits(), lambda.lo.to_bits()], event, p));
         if let Some(x) = key.as_ref().and_then(|k| self.refined.borrow().get(k).copied()) {
             return x;
