@@ -263,7 +263,7 @@ pub fn full_analysis_phases(scene: &crate::scene::Scene, requested: Option<[usiz
     let cx = t.time("four_cycle", || crate::complexity::four_cycle_test(&dec));
     let built = t.time("construction", || {
         let con = Construction::<f64>::new(&linkage, &dec).ok()?;
-        let cert = crate::certify::Certifier::shared(linkage.clone(), dec.clone())?;
+        let cert = crate::certify::Certifier::shared(linkage.clone(), dec.clone(), con.clone())?;
         let drawn = crate::realize::drawn_realization(&linkage, &dec);
         Some((con, cert, drawn))
     });

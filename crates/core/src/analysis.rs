@@ -736,8 +736,8 @@ pub fn analyse_checked(
     let construction = timings
         .time("construction", || Construction::<f64>::new(&linkage, &dec))
         .map_err(|e| scene.error_at(None, e.0))?;
-    let certifier =
-        Certifier::shared(linkage.clone(), dec.clone()).expect("the f64 construction succeeded, so the ball ones do");
+    let certifier = Certifier::shared(linkage.clone(), dec.clone(), construction.clone())
+        .expect("the f64 construction succeeded, so the ball ones do");
     let drawn = drawn_realization(&linkage, &dec);
     warnings.extend(drawn.flat_steps.iter().map(|&step| Warning::FlatInDrawing { step }));
     // A sketch whose drawn λ its type cannot reach has no start for the walk:

@@ -284,14 +284,14 @@ pub struct At<'a> {
 impl Certifier {
     /// The construction in every arithmetic a decision may need; `None` when a cluster's stated lengths do not close.
     pub fn new(linkage: &Linkage, dec: &Decomposition) -> Option<Self> {
-        Self::shared(Arc::new(linkage.clone()), Arc::new(dec.clone()))
+        let f64_plain = Construction::new(linkage, dec).ok()?;
+        Self::shared(Arc::new(linkage.clone()), Arc::new(dec.clone()), f64_plain)
     }
 
     /// [`Self::new`] on a linkage and decomposition the caller keeps too
-    /// (no copy of either).
-    pub fn shared(linkage: Arc<Linkage>, dec: Arc<Decomposition>) -> Option<Self> {
+    /// (no copy of either), with their f64 construction.
+    pub fn shared(linkage: Arc<Linkage>, dec: Arc<Decomposition>, f64_plain: Construction<f64>) -> Option<Self> {
         let f64_balls: Construction<Ball<f64>> = Construction::new(&linkage, &dec).ok()?;
-        let f64_plain = Construction::new(&linkage, &dec).ok()?;
         let mut cert = Certifier {
             f64_balls,
             f64_plain,
