@@ -302,3 +302,23 @@ D = [3.5, 0]
     assert_eq!(c.certificate.outcome, Outcome::Mirror);
     assert!(!c.certificate.certified, "flat only to double-double resolution: not a proof");
 }
+
+/// The budget is work, not boxes alone: each box encloses pieces through
+/// every step, so a deep scene (50 Jansen legs, 151 steps) gets
+/// CLOSEST_BOX_STEPS / 151 boxes (about the same time as 100 000 boxes on a
+/// scene of 100 steps); a shallow one keeps the default count.
+#[test]
+fn a_deep_scene_gets_fewer_boxes_for_the_same_work() {
+    let mut a = analyse(caymos::generate::strandbeest(50), None).unwrap();
+    let s = a.outcome.as_mut().unwrap();
+    assert_eq!(s.construction.steps.len(), 151);
+    commands::walk_components(s, 2);
+    // A loose gap is reached at once: only the budget it had is read here.
+    let opts = ClosestOptions { gap: 0.5, ..Default::default() };
+    let c = commands::closest_with(&a.linkage, s, 0, 1, opts).unwrap();
+    assert_eq!(c.max_boxes, caymos::tolerance::CLOSEST_BOX_STEPS / 151);
+    assert!(c.max_boxes < caymos::distance::DEFAULT_MAX_BOXES && c.boxes <= c.max_boxes);
+    let (a, s) = solve(bundled::load("limacon").unwrap());
+    let c = commands::closest_with(&a.linkage, &s, 0, 2, opts).unwrap();
+    assert_eq!(c.max_boxes, caymos::distance::DEFAULT_MAX_BOXES);
+}

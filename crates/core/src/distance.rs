@@ -26,8 +26,9 @@ use crate::tolerance;
 const POLISH_BUDGET: usize = 400;
 
 /// Default work budget of the closest-pair search, in boxes evaluated: about
-/// 15 µs each (a bound, and at most one new piece of a component enclosed),
-/// so at most a few seconds and tens of MB.
+/// 15 µs each on a scene of a few dozen steps (a bound, and at most one new
+/// piece of a component enclosed), so at most a few seconds and tens of MB.
+/// Deeper scenes get fewer ([`tolerance::CLOSEST_BOX_STEPS`]).
 pub const DEFAULT_MAX_BOXES: usize = 100_000;
 
 /// A component parametrized by arc length in λ, s ∈ [0, total): the Cayley
@@ -69,7 +70,8 @@ impl Arc {
 pub struct ClosestOptions {
     /// Stop once the proven bounds satisfy upper − lower ≤ gap × upper.
     pub gap: f64,
-    /// Evaluate at most this many boxes.
+    /// Evaluate at most this many boxes (and at most
+    /// [`tolerance::CLOSEST_BOX_STEPS`] boxes × construction steps).
     pub max_boxes: usize,
 }
 
@@ -556,7 +558,8 @@ impl Search<'_> {
 /// boxes (a piece of A × a piece of B) are taken lowest proven bound first,
 /// each split in the piece that widens its bound most, until the best pair
 /// found is within `opts.gap` (relative) of the lowest bound of any box left,
-/// or `opts.max_boxes` boxes were evaluated. `None` when a component has no
+/// or the budget of boxes was spent (`opts.max_boxes`, fewer on a scene of
+/// more than 100 steps: [`tolerance::CLOSEST_BOX_STEPS`]). `None` when a component has no
 /// segment.
 pub fn closest_pair(
     con: &Construction<f64>,
@@ -577,6 +580,8 @@ pub fn closest_pair(
     if let Some(pair) = shared_pair(space, (ca, cb), opts) {
         return Some(pair);
     }
+    let opts =
+        ClosestOptions { max_boxes: opts.max_boxes.min(tolerance::CLOSEST_BOX_STEPS / con.steps.len().max(1)), ..opts };
     let (ha, hb) = (halves(con, space, &seg_a), halves(con, space, &seg_b));
     let unverified_ends = ha.iter().chain(&hb).filter(|h| !h.verified).count();
     let mut search = Search {
