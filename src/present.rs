@@ -332,6 +332,11 @@ pub fn warning(w: &Warning, n: Names) -> String {
                     "a singular place at λ = {at} ({list}, a touch): the motion passes through it into {beyond} of the same connected set"
                 );
             }
+            if events.is_empty() {
+                return format!(
+                    "an end at λ = {at} where no step is flat (a degenerate place: a step's base joints coincide there, so its vertex can turn freely, an extra degree of freedom): each listed component ends there; motions through that turn are not followed"
+                );
+            }
             let what = if *ways == 0 { "a dead end" } else { "a branch point" };
             format!("{what} at λ = {at} ({list}): {ways} ways on; each listed component follows the lowest flat step's flip there")
         }

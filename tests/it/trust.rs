@@ -704,3 +704,21 @@ fn a_step_depends_on_its_ancestors_only() {
     }
     assert!(independent > 0, "two legs have independent steps");
 }
+
+/// A kite grounded on its diagonal B–D (A and C each equidistant from B and
+/// D): both steps stand on the base with equal sides, so at λ = 0 both base
+/// joints coincide and each vertex turns freely. That end is proven (the
+/// folded slack of an equal-sided step on the base is λ itself, exactly 0
+/// there), not estimated, and said to be a degenerate place, not a dead end
+/// with an empty list of flat steps.
+#[test]
+fn a_kite_on_its_diagonal_ends_at_a_proven_degenerate_place() {
+    let text = "name = \"kite\"\nbase = [\"B\", \"D\"]\nbars = [[\"A\", \"B\"], [\"A\", \"D\"], [\"C\", \"B\"], [\"C\", \"D\"]]\n[joints]\nA = [0.0, 1.0]\nB = [-1.0, 0.0]\nD = [1.0, 0.0]\nC = [0.0, -2.0]\n";
+    let (a, s) = solve_text(text, "kite");
+    assert_eq!(s.space.intervals.len(), 4);
+    assert!(s.space.intervals.iter().all(|iv| iv.lower.lambda == 0.0 && iv.lower.events.is_empty()));
+    assert!(!a.warnings.iter().any(|w| matches!(w, Warning::EstimatedDecisions { .. })), "{:?}", a.warnings);
+    let text = caymos::report::Report::new(&a).to_text();
+    assert!(text.contains("an end at λ = 0 where no step is flat (a degenerate place"), "{text}");
+    assert!(!text.contains("a dead end at λ = 0 ()"), "{text}");
+}

@@ -450,7 +450,11 @@ impl Certifier {
                 return None;
             }
             let s = &con.steps[k];
-            *sign = Sign::of(kind.slack_value(s.r1, s.r2, lambda).sign())?;
+            let slack = kind.slack_value(s.r1, s.r2, lambda);
+            // With equal sides the folded slack is d = λ itself: at an exact
+            // λ = 0 (the base's end) it is exactly zero, proven.
+            let exact_zero = kind == Kind::Folded && self.kinds(k).len() == 1 && lambda == Ball::exact(0.0);
+            *sign = if exact_zero { Sign::Zero } else { Sign::of(slack.sign())? };
         }
         Some(signs)
     }
