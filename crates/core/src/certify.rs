@@ -60,7 +60,11 @@ impl Sign {
 pub struct Certifier {
     f64_balls: Construction<Ball<f64>>,
     f64_plain: Construction<f64>,
-    dd: OnceCell<DdConstructions>,
+    /// The double-double constructions, each built on first use (`None`:
+    /// a cluster's stated lengths do not close in double-double). Deciding
+    /// equal sides needs only the balls.
+    dd_balls: OnceCell<Option<Construction<Ball<Dd>>>>,
+    dd_plain: OnceCell<Option<DdPlain>>,
     /// Shared with the analysis (the double-double constructions are built
     /// from them on first use).
     linkage: Arc<Linkage>,
@@ -242,10 +246,9 @@ fn prefix_word(bits: &[bool], step: usize) -> Option<u128> {
     if step <= 128 { bits_word(&bits[..step]) } else { None }
 }
 
-/// The double-double constructions, built together on first use.
+/// The double-double values, for the questions f64 balls leave open.
 #[derive(Debug, Clone)]
-struct DdConstructions {
-    balls: Construction<Ball<Dd>>,
+struct DdPlain {
     plain: Construction<Dd>,
     /// The f64 construction with slopes, for the slope [`Certifier::refine_dd`]'s Newton iteration reads.
     f64_slopes: Construction<Slope<f64>>,
@@ -295,7 +298,8 @@ impl Certifier {
         let mut cert = Certifier {
             f64_balls,
             f64_plain,
-            dd: OnceCell::new(),
+            dd_balls: OnceCell::new(),
+            dd_plain: OnceCell::new(),
             linkage,
             dec,
             kinds: Vec::new(),
@@ -310,7 +314,7 @@ impl Certifier {
             .map(|k| {
                 let s = &cert.f64_balls.steps[k];
                 let unequal = (s.r1 - s.r2).sign().is_some() || {
-                    let s = &cert.dd_constructions()?.balls.steps[k];
+                    let s = &cert.dd_balls()?.steps[k];
                     (s.r1 - s.r2).sign().is_some()
                 };
                 Some(if unequal { &[Kind::Stretched, Kind::Folded][..] } else { &[Kind::Stretched][..] })
@@ -320,19 +324,24 @@ impl Certifier {
         Some(cert)
     }
 
-    /// The double-double constructions (built on first use; `None` when a
-    /// cluster's stated lengths do not close in double-double).
-    fn dd_constructions(&self) -> Option<&DdConstructions> {
-        if self.dd.get().is_none() {
-            let plain: Construction<Dd> = Construction::new(&self.linkage, &self.dec).ok()?;
-            // Slope arithmetic on values is f64's own, operation for operation:
-            // the plain construction's numbers as constants are the ones
-            // `Construction::<Slope<f64>>::new` computes.
-            let f64_slopes = self.f64_plain.map(Slope::constant);
-            let built = DdConstructions { balls: Construction::new(&self.linkage, &self.dec).ok()?, plain, f64_slopes };
-            let _ = self.dd.set(built);
-        }
-        self.dd.get()
+    /// The double-double ball construction (built on first use; `None`
+    /// when a cluster's stated lengths do not close in double-double).
+    fn dd_balls(&self) -> Option<&Construction<Ball<Dd>>> {
+        self.dd_balls.get_or_init(|| Construction::new(&self.linkage, &self.dec).ok()).as_ref()
+    }
+
+    /// The double-double plain construction, with the f64 slopes (built on
+    /// first use, like [`Self::dd_balls`]).
+    fn dd_plain(&self) -> Option<&DdPlain> {
+        self.dd_plain
+            .get_or_init(|| {
+                let plain = Construction::new(&self.linkage, &self.dec).ok()?;
+                // Slope arithmetic on values is f64's own, operation for operation:
+                // the plain construction's numbers as constants are the ones
+                // `Construction::<Slope<f64>>::new` computes.
+                Some(DdPlain { plain, f64_slopes: self.f64_plain.map(Slope::constant) })
+            })
+            .as_ref()
     }
 
     /// The ways step k can stop closing. With equal sides (r1 = r2, proven
@@ -367,8 +376,8 @@ impl Certifier {
         if crosses(&self.f64_balls.shapes[c], scale).any(|s| s.is_some()) {
             return Some(false);
         }
-        let dd = self.dd_constructions()?;
-        if crosses(&dd.balls.shapes[c], scale).any(|s| s.is_some()) { Some(false) } else { None }
+        let balls = self.dd_balls()?;
+        if crosses(&balls.shapes[c], scale).any(|s| s.is_some()) { Some(false) } else { None }
     }
 
     /// Whether two steps are flat at the same base length: the proven sign
@@ -379,7 +388,7 @@ impl Certifier {
             let (sa, sb) = (&con.steps[a.step], &con.steps[b.step]);
             (a.kind.target(sa.r1, sa.r2) - b.kind.target(sb.r1, sb.r2)).sign()
         }
-        let fine = || self.dd_constructions().and_then(|dd| diff(&dd.balls, a, b));
+        let fine = || self.dd_balls().and_then(|balls| diff(balls, a, b));
         Sign::of(diff(&self.f64_balls, a, b).or_else(fine)).unwrap_or(Sign::Zero)
     }
 
@@ -498,7 +507,7 @@ impl Certifier {
         let balls = !fast.iter().filter(|v| v.proven.is_none()).all(hopeless);
         // A sketch whose shapes close in f64 but not in double-double (a
         // triangle at the feasibility tolerance): nothing more to prove with.
-        let Some(dd) = self.dd_constructions() else {
+        let (Some(dd_balls), Some(dd)) = (self.dd_balls(), self.dd_plain()) else {
             return fast.iter().map(|f| f.proven.unwrap_or(Sign::Zero)).collect();
         };
         // Only the questions f64 left open, realized only as deep as they reach.
@@ -506,11 +515,11 @@ impl Certifier {
             questions.iter().zip(&fast).filter(|(_, f)| f.proven.is_none()).map(|(&q, _)| q).collect();
         let upto = open.iter().map(|&(k, _)| k).max().unwrap_or(0);
         let flat: Vec<usize> = flat.into_iter().filter(|&s| s < upto).collect();
-        let mut enclose = |l: Ball<Dd>| dd.balls.base_distances_flat(l, bits, upto, &flat);
+        let mut enclose = |l: Ball<Dd>| dd_balls.base_distances_flat(l, bits, upto, &flat);
         let enclose: Option<&mut dyn FnMut(Ball<Dd>) -> Vec<Ball<Dd>>> = if balls { Some(&mut enclose) } else { None };
         let mut realize =
             |l: Dd| distances_at(prefixes.as_deref_mut().map(|p| &mut p.dd), &dd.plain, l, bits, upto, (mask, &flat));
-        let mut fine = self.evaluate(&dd.balls, &dd.plain, bits, at, refined, &open, enclose, &mut realize).into_iter();
+        let mut fine = self.evaluate(dd_balls, &dd.plain, bits, at, refined, &open, enclose, &mut realize).into_iter();
         fast.iter()
             .map(|f| {
                 f.proven.unwrap_or_else(|| {
@@ -713,7 +722,7 @@ impl Certifier {
     fn refine_dd(&self, bits: &[bool], at: At, lambda: Dd) -> Dd {
         let Some(&event) = at.events.first() else { return lambda };
         // A step on the base is flat at its target (in double-double).
-        if let Some(dd) = self.dd_constructions().filter(|dd| dd.plain.on_base(event.step)) {
+        if let Some(dd) = self.dd_plain().filter(|dd| dd.plain.on_base(event.step)) {
             let s = &dd.plain.steps[event.step];
             return event.kind.target(s.r1, s.r2);
         }
@@ -736,7 +745,7 @@ impl Certifier {
     /// a plain double-double realization instead of one with slopes, 40%
     /// cheaper). Without a finite nonzero slope (a square-root end) λ stays.
     fn newton_dd(&self, bits: &[bool], event: Event, lambda: Dd) -> Dd {
-        let Some(dd) = self.dd_constructions() else { return lambda };
+        let Some(dd) = self.dd_plain() else { return lambda };
         let mut pos = Vec::new();
         let at = Slope::variable(lambda.to_f64());
         let Ok(d) = dd.f64_slopes.prefix_distance_into(&mut pos, at, bits, event.step) else { return lambda };
