@@ -47,6 +47,12 @@ pub trait Real:
     fn clamp_nonneg_plain(self) -> Self {
         if self < Self::zero() { Self::zero() } else { self }
     }
+    /// c × self for a constant c of a construction (a member's placement
+    /// coefficient: no slope, no curvature), so jets and slopes scale their
+    /// parts by c's value alone; the same numbers as `c * self`.
+    fn times_constant(self, c: Self) -> Self {
+        c * self
+    }
     /// Whether `realize::apex` divides by its base length d through one
     /// reciprocal 1/d and products, rather than by plain divisions. True
     /// where a division costs far more than a product: [`Ball`] (two ball
@@ -352,6 +358,9 @@ impl<T: Real> Real for Jet<T> {
     ) -> Result<P2<Self>, Option<f64>> {
         crate::realize::apex_jet(pu, e, d, sum_diff, plus, tol, flat)
     }
+    fn times_constant(self, c: Self) -> Self {
+        Jet { v: c.v * self.v, d: c.v * self.d, s: c.v * self.s }
+    }
     /// Where [`Real::hypot`] squares directly, the value as it computes it
     /// and the derivatives of r = √(x² + y²) directly: r′ = (x·x′ + y·y′)/r,
     /// r″ = (x′² + x·x″ + y′² + y·y″ − r′²)/r (a jet product per square
@@ -453,6 +462,9 @@ impl<T: Real> Real for Slope<T> {
     const UNIT_ROUNDOFF: f64 = T::UNIT_ROUNDOFF;
     const APEX_BY_RECIPROCAL: bool = T::APEX_BY_RECIPROCAL;
     const HYPOT_SQUARES: Option<[f64; 2]> = T::HYPOT_SQUARES;
+    fn times_constant(self, c: Self) -> Self {
+        Slope { v: c.v * self.v, d: c.v * self.d }
+    }
     fn from_f64(x: f64) -> Self {
         Slope::constant(T::from_f64(x))
     }
@@ -716,6 +728,17 @@ mod tests {
         }
         let x = Jet { v: -3.0, d: 1.0, s: 0.5 };
         assert_eq!(Jet::hypot(x, Jet::constant(0.0)), -x);
+    }
+
+    /// Scaling by a construction's constant is the product with it, part
+    /// for part, for jets and slopes alike.
+    #[test]
+    fn times_constant_is_the_product_with_a_constant() {
+        let x = Jet { v: 1.5, d: -0.25, s: 3.0 };
+        let c = Jet::constant(-0.7);
+        assert_eq!(x.times_constant(c), c * x);
+        let y = Slope { v: 2.0, d: 0.125 };
+        assert_eq!(y.times_constant(Slope::constant(3.0)), Slope::constant(3.0) * y);
     }
 
     #[test]

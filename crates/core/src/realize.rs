@@ -983,7 +983,9 @@ impl<T: Real> Construction<T> {
             let e = sub(v, p);
             for m in list {
                 if every || reads.next().is_none_or(|&read| read <= reach) {
-                    pos[m.joint] = [p[0] + m.alpha * e[0] - m.beta * e[1], p[1] + m.alpha * e[1] + m.beta * e[0]];
+                    let (a, b) = (m.alpha, m.beta);
+                    let (ae, be) = (e.map(|x| x.times_constant(a)), e.map(|x| x.times_constant(b)));
+                    pos[m.joint] = [p[0] + ae[0] - be[1], p[1] + ae[1] + be[0]];
                 }
             }
         }
