@@ -722,7 +722,9 @@ impl Certifier {
     fn refine_dd(&self, bits: &[bool], at: At, lambda: Dd) -> Dd {
         let Some(&event) = at.events.first() else { return lambda };
         // A step on the base is flat at its target (in double-double).
-        if let Some(dd) = self.dd_plain().filter(|dd| dd.plain.on_base(event.step)) {
+        if self.f64_plain.on_base(event.step)
+            && let Some(dd) = self.dd_plain()
+        {
             let s = &dd.plain.steps[event.step];
             return event.kind.target(s.r1, s.r2);
         }

@@ -348,12 +348,12 @@ pub(crate) fn apex_flat<T: Real>(
     tol: f64,
     flat: bool,
 ) -> Result<P2<T>, Option<f64>> {
-    let Apex { along, h, ex, ey, .. } = apex_parts(e, d, sum_diff, plus, tol, flat)?;
-    Ok([pu[0] + along * ex - h * ey, pu[1] + along * ey + h * ex])
+    Ok(apex_parts(e, d, sum_diff, plus, tol, flat)?.placed(pu))
 }
 
 /// The apex as `pu + along·(ex, ey) + h·(−ey, ex)`, with (ex, ey) = e/d and
 /// h signed by the orientation; `h2` = (h/d)² (clamped slacks count zero).
+#[derive(Clone, Copy)]
 struct Apex<T> {
     along: T,
     h: T,
@@ -362,6 +362,14 @@ struct Apex<T> {
     h2: T,
     /// A slack below zero was clamped to a flat triangle.
     clamped: bool,
+}
+
+impl<T: Real> Apex<T> {
+    /// The apex from `pu`.
+    fn placed(&self, pu: P2<T>) -> P2<T> {
+        let Apex { along, h, ex, ey, .. } = *self;
+        [pu[0] + along * ex - h * ey, pu[1] + along * ey + h * ex]
+    }
 }
 
 /// [`apex_flat`]'s numbers, before they are combined.
@@ -421,9 +429,7 @@ pub(crate) fn apex_jet<T: Real>(
 ) -> Result<P2<Jet<T>>, Option<f64>> {
     let v = |p: P2<Jet<T>>| [p[0].v, p[1].v];
     let parts = apex_parts(v(e), d.v, [sum.v, diff.v], plus, tol, flat)?;
-    let pu_v = v(pu);
-    let x = pu_v[0] + parts.along * parts.ex - parts.h * parts.ey;
-    let y = pu_v[1] + parts.along * parts.ey + parts.h * parts.ex;
+    let [x, y] = parts.placed(v(pu));
     let (one, two) = (T::from_f64(1.0), T::from_f64(2.0));
     let (rho1, rho2) = (d.d / d.v, d.s / d.v);
     let (sigma, delta) = (sum.v / d.v, diff.v / d.v);
