@@ -3,7 +3,7 @@
 //! arithmetic, used to measure the f64 error) and in [`Jet`] (value plus first
 //! and second derivative, for exact sign tests of a slack at its root).
 
-use crate::realize::P2;
+use crate::realize::{P2, Triangle};
 use std::fmt::Debug;
 use std::ops::{Add, Div, Mul, Neg, Sub};
 
@@ -68,18 +68,10 @@ pub trait Real:
     /// where a division costs far more than a product ([`Ball`], [`Dd`],
     /// and jets over f64); `None`: always scaled.
     const HYPOT_SQUARES: Option<[f64; 2]> = None;
-    /// The apex of a triangle from its base vector `e` and length `d`
-    /// ([`crate::realize::apex_flat`], which every type but jets uses).
-    fn apex(
-        pu: P2<Self>,
-        e: P2<Self>,
-        d: Self,
-        sum_diff: [Self; 2],
-        plus: bool,
-        tol: f64,
-        flat: bool,
-    ) -> Result<P2<Self>, Option<f64>> {
-        crate::realize::apex_flat(pu, e, d, sum_diff, plus, tol, flat)
+    /// The apex of a step's triangle ([`crate::realize::apex_flat`], which
+    /// every type but jets uses).
+    fn apex(t: Triangle<Self>) -> Result<P2<Self>, Option<f64>> {
+        crate::realize::apex_flat(t)
     }
     /// √(x² + y²) without squaring a length: scaled by the larger of |x|, |y|
     /// so that scenes near 1e±300 neither overflow nor underflow; squared
@@ -347,16 +339,8 @@ impl<T: Real> Real for Jet<T> {
     const APEX_BY_RECIPROCAL: bool = T::APEX_BY_RECIPROCAL;
     const HYPOT_SQUARES: Option<[f64; 2]> = T::HYPOT_SQUARES;
     /// Derivatives through d alone ([`crate::realize::apex_jet`]).
-    fn apex(
-        pu: P2<Self>,
-        e: P2<Self>,
-        d: Self,
-        sum_diff: [Self; 2],
-        plus: bool,
-        tol: f64,
-        flat: bool,
-    ) -> Result<P2<Self>, Option<f64>> {
-        crate::realize::apex_jet(pu, e, d, sum_diff, plus, tol, flat)
+    fn apex(t: Triangle<Self>) -> Result<P2<Self>, Option<f64>> {
+        crate::realize::apex_jet(t)
     }
     fn times_constant(self, c: Self) -> Self {
         Jet { v: c.v * self.v, d: c.v * self.d, s: c.v * self.s }

@@ -326,7 +326,30 @@ pub fn slack<T: Real>(r1: T, r2: T, d: T) -> T {
 /// A slack down to `-tol` is clamped to a flat triangle; below, `Err(slack)`.
 pub fn apex<T: Real>(pu: P2<T>, pw: P2<T>, r1: T, r2: T, plus: bool, tol: f64) -> Result<P2<T>, Option<f64>> {
     let e = sub(pw, pu);
-    apex_flat(pu, e, norm(e), sum_diff(r1, r2), plus, tol, false)
+    apex_flat(Triangle { pu, e, d: norm(e), sum_diff: sum_diff(r1, r2), plus, tol, flat: false })
+}
+
+/// A step's triangle as it is placed: its base from `pu` along `e = pw − pu`
+/// of length `d = |e|` (computed once by the caller, which also records d
+/// as the step's base distance), its sides as [r1 + r2, r1 − r2]
+/// ([`sum_diff`]), left of the base when `plus`, a slack down to `-tol`
+/// counted as flat, and `flat` to place it exactly flat (height zero).
+#[derive(Clone, Copy, Debug)]
+pub struct Triangle<T> {
+    /// The base's first joint.
+    pub pu: P2<T>,
+    /// The base vector pw − pu.
+    pub e: P2<T>,
+    /// Its length.
+    pub d: T,
+    /// [r1 + r2, r1 − r2].
+    pub sum_diff: [T; 2],
+    /// Left of the base.
+    pub plus: bool,
+    /// Slack down to `-tol` counts as flat.
+    pub tol: f64,
+    /// Placed exactly flat.
+    pub flat: bool,
 }
 
 /// [r1 + r2, r1 − r2].
@@ -334,21 +357,10 @@ fn sum_diff<T: Real>(r1: T, r2: T) -> [T; 2] {
     [r1 + r2, r1 - r2]
 }
 
-/// [`apex`] from the base vector `e = pw − pu` and its length `d = |e|`
-/// (computed once by the caller, which also records d as the step's base
-/// distance) and the sides as [r1 + r2, r1 − r2] ([`sum_diff`]), optionally
-/// forcing the triangle flat (height zero). Each type computes it through
-/// [`Real::apex`] (jets carry their derivatives through d alone).
-pub(crate) fn apex_flat<T: Real>(
-    pu: P2<T>,
-    e: P2<T>,
-    d: T,
-    sum_diff: [T; 2],
-    plus: bool,
-    tol: f64,
-    flat: bool,
-) -> Result<P2<T>, Option<f64>> {
-    Ok(apex_parts(e, d, sum_diff, plus, tol, flat)?.placed(pu))
+/// [`apex`] of a [`Triangle`]. Each type computes it through [`Real::apex`]
+/// (jets carry their derivatives through d alone).
+pub(crate) fn apex_flat<T: Real>(t: Triangle<T>) -> Result<P2<T>, Option<f64>> {
+    Ok(apex_parts(&t)?.placed(t.pu))
 }
 
 /// The apex as `pu + along·(ex, ey) + h·(−ey, ex)`, with (ex, ey) = e/d and
@@ -373,14 +385,8 @@ impl<T: Real> Apex<T> {
 }
 
 /// [`apex_flat`]'s numbers, before they are combined.
-fn apex_parts<T: Real>(
-    e: P2<T>,
-    d: T,
-    [sum, diff]: [T; 2],
-    plus: bool,
-    tol: f64,
-    flat: bool,
-) -> Result<Apex<T>, Option<f64>> {
+fn apex_parts<T: Real>(t: &Triangle<T>) -> Result<Apex<T>, Option<f64>> {
+    let Triangle { e, d, sum_diff: [sum, diff], plus, tol, flat, .. } = *t;
     let [stretch, fold, gap] = closing(d, [sum, diff], tol)?;
     let zero = T::zero();
     let clamped = stretch < zero || fold < zero;
@@ -418,18 +424,12 @@ fn apex_parts<T: Real>(
 /// dimensionless (no product of lengths). A clamped slack has no
 /// derivative (NaN, as the generic jet gives); a forced flat triangle has
 /// G ≡ 0.
-pub(crate) fn apex_jet<T: Real>(
-    pu: P2<Jet<T>>,
-    e: P2<Jet<T>>,
-    d: Jet<T>,
-    [sum, diff]: [Jet<T>; 2],
-    plus: bool,
-    tol: f64,
-    flat: bool,
-) -> Result<P2<Jet<T>>, Option<f64>> {
+pub(crate) fn apex_jet<T: Real>(t: Triangle<Jet<T>>) -> Result<P2<Jet<T>>, Option<f64>> {
+    let Triangle { pu, e, d, sum_diff: [sum, diff], plus, tol, flat } = t;
     let v = |p: P2<Jet<T>>| [p[0].v, p[1].v];
-    let parts = apex_parts(v(e), d.v, [sum.v, diff.v], plus, tol, flat)?;
-    let [x, y] = parts.placed(v(pu));
+    let values = Triangle { pu: v(pu), e: v(e), d: d.v, sum_diff: [sum.v, diff.v], plus, tol, flat };
+    let parts = apex_parts(&values)?;
+    let [x, y] = parts.placed(values.pu);
     let (one, two) = (T::from_f64(1.0), T::from_f64(2.0));
     let (rho1, rho2) = (d.d / d.v, d.s / d.v);
     let (sigma, delta) = (sum.v / d.v, diff.v / d.v);
@@ -976,7 +976,7 @@ impl<T: Real> Construction<T> {
         if s.first_reads.apex > reach {
             return (dk, closing(dk, s.sum_diff, tol).map(|_| ()).map_err(why));
         }
-        let v = match T::apex(pos[s.u], e, dk, s.sum_diff, plus, tol, flat) {
+        let v = match T::apex(Triangle { pu: pos[s.u], e, d: dk, sum_diff: s.sum_diff, plus, tol, flat }) {
             Ok(v) => v,
             Err(e) => return (dk, Err(why(e))),
         };
@@ -1117,7 +1117,8 @@ mod tests {
                     // The same base in f64 at λ-offset t (the jets' Taylor polynomials).
                     let at = |p: P2<Jet<f64>>, t: f64| p.map(|c| c.v + c.d * t + c.s * t * t / 2.0);
                     for plus in [true, false] {
-                        let fast = apex_jet(pu, e, dk, sd, plus, 0.0, false).expect("closes");
+                        let fast = apex_jet(Triangle { pu, e, d: dk, sum_diff: sd, plus, tol: 0.0, flat: false })
+                            .expect("closes");
                         // Independent: central differences of the f64 apex (away
                         // from flat, where a step of h keeps the triangle closed).
                         let h = 1e-4 * scale;
@@ -1141,7 +1142,8 @@ mod tests {
                                 fast[i].s
                             );
                         }
-                        let slow = apex_flat(pu, e, dk, sd, plus, 0.0, false).expect("closes");
+                        let slow = apex_flat(Triangle { pu, e, d: dk, sum_diff: sd, plus, tol: 0.0, flat: false })
+                            .expect("closes");
                         for (f, s) in fast.iter().zip(&slow) {
                             assert_eq!(f.v, s.v, "value at scale {scale}, t {t}");
                             // The generic formula overflows in its curvature at
@@ -1158,8 +1160,10 @@ mod tests {
                         }
                     }
                     // Forced flat: no height, and so no height derivatives.
-                    let fast = apex_jet(pu, e, dk, sd, true, 0.0, true).expect("closes");
-                    let slow = apex_flat(pu, e, dk, sd, true, 0.0, true).expect("closes");
+                    let fast = apex_jet(Triangle { pu, e, d: dk, sum_diff: sd, plus: true, tol: 0.0, flat: true })
+                        .expect("closes");
+                    let slow = apex_flat(Triangle { pu, e, d: dk, sum_diff: sd, plus: true, tol: 0.0, flat: true })
+                        .expect("closes");
                     assert!(fast.iter().zip(&slow).all(|(f, s)| f.v == s.v && close(f.d, s.d, s.d.abs().max(1.0))));
                 }
             }
