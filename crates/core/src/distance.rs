@@ -22,8 +22,13 @@ use crate::motion::{Component, Segment, component_segments};
 use crate::realize::{Construction, Realization, RealizationType, points};
 use crate::tolerance;
 
-/// Point enclosures spent at most on polishing the best pair (a few ms).
+/// Point enclosures spent at most on polishing the best pair (a few ms on
+/// a scene of up to 100 steps; each costs its steps, so deeper scenes get
+/// [`POLISH_STEPS`] / steps of them).
 const POLISH_BUDGET: usize = 400;
+
+/// The polish's work budget in point enclosures × construction steps.
+const POLISH_STEPS: usize = 40_000;
 
 /// Default work budget of the closest-pair search, in boxes evaluated: about
 /// 15 µs each on a scene of a few dozen steps (a bound, and at most one new
@@ -590,7 +595,7 @@ pub fn closest_pair(
         best: Best { upper: f64::INFINITY, point_lower: 0.0, at: None },
         boxes: 0,
         floor: f64::INFINITY,
-        polish_left: POLISH_BUDGET,
+        polish_left: POLISH_BUDGET.min(POLISH_STEPS / con.steps.len().max(1)),
         opts,
     };
     // Every pair of interval ends is a candidate; then every pair of halves is a box.
