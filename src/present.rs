@@ -180,20 +180,16 @@ pub fn outside(o: &Outside, linkage: &Linkage) -> String {
 /// `bar A–B` or `body [A, B, C]`.
 pub fn constraint(c: &Constraint, linkage: &Linkage) -> String {
     match *c {
-        Constraint::Bar(i) => {
-            format!("bar {}{}", linkage.pair_name(linkage.bars[i].joints), on_line(linkage.bars[i].line))
+        Constraint::Bar(i) => format!("bar {}{}", linkage.pair_name(linkage.bars[i].joints), on_line(linkage, *c)),
+        Constraint::Body(i) => {
+            format!("body [{}]{}", Names::new(linkage, &[]).joints(&linkage.bodies[i]), on_line(linkage, *c))
         }
-        Constraint::Body(i) => format!(
-            "body [{}]{}",
-            Names::new(linkage, &[]).joints(&linkage.bodies[i]),
-            on_line(linkage.body_lines.get(i).copied().unwrap_or(0))
-        ),
     }
 }
 
-/// " (line N)" for a declaration read from a file; nothing for one made in code (line 0).
-fn on_line(line: usize) -> String {
-    if line > 0 { format!(" (line {line})") } else { String::new() }
+/// " (line N)" for a declaration read from a file; nothing for one made in code.
+fn on_line(linkage: &Linkage, c: Constraint) -> String {
+    linkage.line_of(c).map(|line| format!(" (line {line})")).unwrap_or_default()
 }
 
 /// Why the four-cycle test fails at a step.

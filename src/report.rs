@@ -207,14 +207,16 @@ impl OutsideReport {
                 redundant: redundant
                     .iter()
                     .map(|c| match *c {
-                        Constraint::Bar(i) => {
-                            let line = Some(l.bars[i].line).filter(|&n| n > 0);
-                            ConstraintReport::Bar { bar: ItemNo::of_index(i), joints: names(&l.bars[i].joints), line }
-                        }
-                        Constraint::Body(i) => {
-                            let line = l.body_lines.get(i).copied().filter(|&n| n > 0);
-                            ConstraintReport::Body { body: ItemNo::of_index(i), joints: names(&l.bodies[i]), line }
-                        }
+                        Constraint::Bar(i) => ConstraintReport::Bar {
+                            bar: ItemNo::of_index(i),
+                            joints: names(&l.bars[i].joints),
+                            line: l.line_of(*c),
+                        },
+                        Constraint::Body(i) => ConstraintReport::Body {
+                            body: ItemNo::of_index(i),
+                            joints: names(&l.bodies[i]),
+                            line: l.line_of(*c),
+                        },
                     })
                     .collect(),
                 dof: *dof,

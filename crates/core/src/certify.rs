@@ -447,11 +447,11 @@ impl Certifier {
     /// general path decides it).
     fn on_base_signs<const N: usize>(&self, at: At, questions: &[(usize, Kind); N]) -> Option<[Sign; N]> {
         let con = &self.f64_balls;
-        let lambda = match at.events.first() {
-            None => Ball::exact(at.lambda),
-            Some(e) if con.on_base(e.step) => e.kind.target(con.steps[e.step].r1, con.steps[e.step].r2),
-            Some(_) => return None,
-        };
+        if at.events.first().is_some_and(|e| !con.on_base(e.step)) {
+            return None;
+        }
+        // λ exact, or the flat step's target: `bracket` reads no type bits for either.
+        let lambda = self.bracket(con, &[], at, Dd::new(at.lambda))?;
         let flat_here = |k: usize, kind: Kind| at.events.iter().any(|e| e.step == k && e.kind == kind);
         let mut signs = [Sign::Zero; N];
         for (sign, &(k, kind)) in signs.iter_mut().zip(questions) {

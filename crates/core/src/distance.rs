@@ -585,8 +585,9 @@ pub fn closest_pair(
     if let Some(pair) = shared_pair(space, (ca, cb), opts) {
         return Some(pair);
     }
-    let opts =
-        ClosestOptions { max_boxes: opts.max_boxes.min(tolerance::CLOSEST_BOX_STEPS / con.steps.len().max(1)), ..opts };
+    // Budgets of work (so many × steps) as counts on this scene.
+    let per_step = |work: usize| work / con.steps.len().max(1);
+    let opts = ClosestOptions { max_boxes: opts.max_boxes.min(per_step(tolerance::CLOSEST_BOX_STEPS)), ..opts };
     let (ha, hb) = (halves(con, space, &seg_a), halves(con, space, &seg_b));
     let unverified_ends = ha.iter().chain(&hb).filter(|h| !h.verified).count();
     let mut search = Search {
@@ -595,7 +596,7 @@ pub fn closest_pair(
         best: Best { upper: f64::INFINITY, point_lower: 0.0, at: None },
         boxes: 0,
         floor: f64::INFINITY,
-        polish_left: POLISH_BUDGET.min(POLISH_STEPS / con.steps.len().max(1)),
+        polish_left: POLISH_BUDGET.min(per_step(POLISH_STEPS)),
         opts,
     };
     // Every pair of interval ends is a candidate; then every pair of halves is a box.

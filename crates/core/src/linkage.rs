@@ -177,6 +177,18 @@ impl Linkage {
     }
 }
 
+impl Linkage {
+    /// The line of the scene file that declares the bar or body (`None`
+    /// for one made in code, line 0).
+    pub fn line_of(&self, c: Constraint) -> Option<usize> {
+        let line = match c {
+            Constraint::Bar(i) => self.bars[i].line,
+            Constraint::Body(i) => self.body_lines.get(i).copied().unwrap_or(0),
+        };
+        (line > 0).then_some(line)
+    }
+}
+
 /// Where a constraint edge comes from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Constraint {
