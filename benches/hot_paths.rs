@@ -24,7 +24,7 @@ fn small_scenes(c: &mut Criterion) {
     for name in ["fourbar-crank-rocker", "jansen", "limacon"] {
         let scene = caymos::bundled::load(name).expect("bundled");
         c.bench_function(&format!("{name} full analysis (no self-check)"), |b| {
-            b.iter(|| caymos::bench::full_analysis_phases(black_box(&scene), None))
+            b.iter(|| caymos::bench::full_analysis(black_box(&scene), None))
         });
     }
     let chain = caymos::generate::chain(5000);

@@ -214,7 +214,7 @@ pub fn analysis_row(scene: &crate::scene::Scene, repeat: usize) -> Option<Analys
     };
     let n_real = batch(&mut realize);
     let mut full = || {
-        black_box(full_analysis_phases(black_box(scene), requested));
+        black_box(full_analysis(black_box(scene), requested));
     };
     let n_full = batch(&mut full);
     let mut real_times = Vec::with_capacity(repeat);
@@ -254,27 +254,60 @@ pub fn analysis_row(scene: &crate::scene::Scene, repeat: usize) -> Option<Analys
 /// the like-for-like figure. Returns the component count (to keep the work
 /// observable) and each phase's time.
 pub fn full_analysis_phases(scene: &crate::scene::Scene, requested: Option<[usize; 2]>) -> (usize, Timings) {
-    let mut t = Timings::default();
-    let linkage = Arc::new(t.time("linkage", || crate::linkage::Linkage::from_scene(scene)));
-    let Ok(Ok(dec)) = t.time("decompose", || crate::decompose::decompose(&linkage, requested)) else {
-        return (0, t);
+    let mut timings = Timings::default();
+    let components = full_analysis_by(scene, requested, &mut timings);
+    (components, timings)
+}
+
+/// [`full_analysis_phases`] without reading a clock: what `full_analysis_us`
+/// times (a dozen clock reads and the phase list are about a tenth of a
+/// four-bar's analysis). Returns the component count.
+pub fn full_analysis(scene: &crate::scene::Scene, requested: Option<[usize; 2]>) -> usize {
+    full_analysis_by(scene, requested, &mut Untimed)
+}
+
+/// How [`full_analysis_by`] runs each phase: timed ([`Timings`]) or not.
+trait Phases {
+    fn phase<R>(&mut self, name: &'static str, f: impl FnOnce() -> R) -> R;
+}
+
+impl Phases for Timings {
+    fn phase<R>(&mut self, name: &'static str, f: impl FnOnce() -> R) -> R {
+        self.time(name, f)
+    }
+}
+
+/// Phases run without a clock.
+struct Untimed;
+
+impl Phases for Untimed {
+    fn phase<R>(&mut self, _: &'static str, f: impl FnOnce() -> R) -> R {
+        f()
+    }
+}
+
+/// The one pipeline of [`full_analysis_phases`] and [`full_analysis`].
+fn full_analysis_by(scene: &crate::scene::Scene, requested: Option<[usize; 2]>, t: &mut impl Phases) -> usize {
+    let linkage = Arc::new(t.phase("linkage", || crate::linkage::Linkage::from_scene(scene)));
+    let Ok(Ok(dec)) = t.phase("decompose", || crate::decompose::decompose(&linkage, requested)) else {
+        return 0;
     };
     let dec = Arc::new(dec);
-    let cx = t.time("four_cycle", || crate::complexity::four_cycle_test(&dec));
-    let built = t.time("construction", || {
+    let cx = t.phase("four_cycle", || crate::complexity::four_cycle_test(&dec));
+    let built = t.phase("construction", || {
         let con = Construction::<f64>::new(&linkage, &dec).ok()?;
         let cert = crate::certify::Certifier::shared(linkage.clone(), dec.clone(), con.clone())?;
         let drawn = crate::realize::drawn_realization(&linkage, &dec);
         Some((con, cert, drawn))
     });
-    let Some((con, cert, _drawn)) = built else { return (0, t) };
+    let Some((con, cert, _drawn)) = built else { return 0 };
     let space =
-        t.time("cayley_space", || cayley_space(&con, &cert, con.convert::<Jet<f64>>(), &dec, &cx, Method::Exact));
-    let comps = t.time("components", || {
+        t.phase("cayley_space", || cayley_space(&con, &cert, con.convert::<Jet<f64>>(), &dec, &cx, Method::Exact));
+    let comps = t.phase("components", || {
         black_box(crate::cayley_space::union(&space.intervals, linkage.scale));
         crate::motion::components(&space)
     });
-    (comps.list.len(), t)
+    comps.list.len()
 }
 
 /// Median wall time of `f` in microseconds over `repeat` runs after one warm-up.

@@ -109,6 +109,7 @@ fn analysis_rows_time_the_same_analysis_by_phase() {
         let solved = analyse(scene.clone(), None).unwrap().outcome.unwrap();
         let (components, timings) = caymos::bench::full_analysis_phases(&scene, None);
         assert_eq!(components, solved.components.list.len(), "{name}");
+        assert_eq!(caymos::bench::full_analysis(&scene, None), components, "{name}: the untimed run");
         let phases: Vec<&str> = timings.0.iter().map(|(p, _)| *p).collect();
         assert_eq!(phases, ["linkage", "decompose", "four_cycle", "construction", "cayley_space", "components"]);
     }
