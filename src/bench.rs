@@ -237,10 +237,6 @@ pub fn analysis_row(scene: &crate::scene::Scene, repeat: usize) -> Option<Analys
             phases.entry(phase.to_string()).or_default().push(us);
         }
     }
-    let median = |mut v: Vec<f64>| {
-        v.sort_by(f64::total_cmp);
-        v[v.len() / 2]
-    };
     Some(AnalysisRow {
         scene: scene.name.clone(),
         full_analysis_us: median(full_times),
@@ -319,8 +315,30 @@ fn median_us<R>(repeat: usize, mut f: impl FnMut() -> R) -> (f64, R) {
         out = f();
         times.push(t.elapsed().as_secs_f64() * 1e6);
     }
+    (median(times), out)
+}
+
+/// The median of a non-empty list of times (the upper one of an even count).
+fn median(mut times: Vec<f64>) -> f64 {
     times.sort_by(f64::total_cmp);
-    (times[times.len() / 2], out)
+    times[times.len() / 2]
+}
+
+/// Each of `runs`' median wall time in microseconds over `repeat` rounds
+/// after one warm-up round; each round runs every one in turn.
+fn interleaved_medians_us(repeat: usize, runs: &mut [Box<dyn FnMut() + '_>]) -> Vec<f64> {
+    for run in runs.iter_mut() {
+        run();
+    }
+    let mut times = vec![Vec::with_capacity(repeat); runs.len()];
+    for _ in 0..repeat.max(1) {
+        for (run, times) in runs.iter_mut().zip(&mut times) {
+            let t = Instant::now();
+            run();
+            times.push(t.elapsed().as_secs_f64() * 1e6);
+        }
+    }
+    times.into_iter().map(median).collect()
 }
 
 /// Match each reference interval with the method's interval of the same type
@@ -447,18 +465,26 @@ pub fn bench_scene(a: &Analysis, s: &Solved, repeat: usize) -> (Vec<MethodRow>, 
             spurious,
         }
     };
-    for method in methods {
-        let (t, space) =
-            median_us(repeat, || cayley_space(con, &s.certifier, jet.clone(), &s.dec, &s.complexity, method));
+    // The methods take turns within each repetition, so that every median
+    // (and the ratio between two) sees the same machine load.
+    let space = |method: Method| cayley_space(con, &s.certifier, jet.clone(), &s.dec, &s.complexity, method);
+    let mut runs: Vec<Box<dyn FnMut() + '_>> =
+        methods.iter().map(|&method| Box::new(move || drop(black_box(space(method)))) as Box<dyn FnMut()>).collect();
+    runs.push(Box::new(|| drop(black_box(classic_space(con, s)))));
+    let times = interleaved_medians_us(repeat, &mut runs);
+    for (&method, &t) in methods.iter().zip(&times) {
         let label = match method {
             Method::Exact => BenchMethod::Exact,
             Method::Numeric { samples, tol } => BenchMethod::Numeric { samples, tol },
         };
-        rows.push(row(label, t, &spans(&space)));
+        rows.push(row(label, t, &spans(&space(method))));
     }
-    let (t, classic) = median_us(repeat, || classic_space(con, s));
-    if let Some(got) = classic {
-        rows.push(row(BenchMethod::Classic { tol: crate::tolerance::CLASSIC_ABSOLUTE_TOL }, t, &got));
+    if let Some(got) = classic_space(con, s) {
+        rows.push(row(
+            BenchMethod::Classic { tol: crate::tolerance::CLASSIC_ABSOLUTE_TOL },
+            times[methods.len()],
+            &got,
+        ));
     }
     // The lazy walk computes one component: compare it with the reference
     // intervals of the same component (the exhaustive run's drawn component).
