@@ -182,6 +182,9 @@ struct Root<T> {
     /// Sign of the slack just left / right of the root: +1 feasible, −1 not, 0 unknown.
     left: i8,
     right: i8,
+    /// The slack's value there in `T` (from the jets): far from zero, the
+    /// candidate is another branch's root, not this prefix's.
+    slack: T,
 }
 
 struct Sweep<'a, T: Real> {
@@ -508,10 +511,10 @@ impl<T: Real> Sweep<'_, T> {
                     continue;
                 }
                 let st = &self.con.steps[k];
-                let slope = kind.slack_value(Slope::constant(st.r1), Slope::constant(st.r2), d).d;
+                let slack = kind.slack_value(Slope::constant(st.r1), Slope::constant(st.r2), d);
                 let curvature = || self.distance(k, bits, lambda).map_or(T::zero(), |d| self.slack(k, kind, d).s);
-                let (left, right) = side_signs(slope, curvature);
-                roots.push(Root { lambda, kind, at, left, right });
+                let (left, right) = side_signs(slack.d, curvature);
+                roots.push(Root { lambda, kind, at, left, right, slack: slack.v });
             }
         }
         roots.sort_by(|a, b| cmp(&a.lambda, &b.lambda));
@@ -534,6 +537,9 @@ impl<T: Real> Sweep<'_, T> {
         }
         let event = |r: &Root<T>| Event { step: k, kind: r.kind };
         let mut inside: Vec<Root<T>> = roots.iter().copied().filter(|r| r.at == At::Inside).collect();
+        // Step k's proven slacks at each candidate that is far from being
+        // this prefix's root (see `off_root_signs`).
+        let mut off_root: Vec<Option<[Sign; 2]>> = inside.iter().map(|r| self.off_root_signs(k, bits, r)).collect();
         let at_lo: Vec<Root<T>> = roots.iter().copied().filter(|r| r.at == At::Lo).collect();
         let at_hi: Vec<Root<T>> = roots.iter().copied().filter(|r| r.at == At::Hi).collect();
         // Boundaries and the feasibility of each gap between them.
@@ -551,7 +557,13 @@ impl<T: Real> Sweep<'_, T> {
             // that the candidates did not bound).
             let from_ends =
                 if n_gaps == 1 { end_closes(ends[0]).filter(|&c| Some(c) == end_closes(ends[1])) } else { None };
-            let proven = from_ends.or_else(|| self.gap_closes(k, bits, a, b));
+            // Likewise a gap between two candidates proven not to be roots
+            // where step k closes at both, or at neither: its slacks keep
+            // their signs from one to the other.
+            let point = |i: Option<usize>| i.and_then(|i| off_root[i]).and_then(end_closes);
+            let (left, right) = (point(g.checked_sub(1)), point((g + 1 < n_gaps).then_some(g)));
+            let from_points = left.filter(|_| left == right);
+            let proven = from_ends.or(from_points).or_else(|| self.gap_closes(k, bits, a, b));
             let proven = proven.or_else(|| {
                 let between = (g > 0 && g < n_gaps - 1).then(|| [inside[g - 1], inside[g]])?;
                 self.gap_between_non_roots(k, bits, between)
@@ -580,8 +592,13 @@ impl<T: Real> Sweep<'_, T> {
             let r = inside[g];
             let same = feasible[g] == feasible[g + 1];
             let at = Place { lambda: r.lambda.to_f64(), events: &[] };
-            if same && self.cert.slack_signs_kept(&mut self.prefixes, bits, at, [(k, r.kind)])[0] != Sign::Zero {
+            let mut proven_zero = || match off_root[g] {
+                Some(signs) => signs[usize::from(r.kind == Kind::Folded)] == Sign::Zero,
+                None => self.cert.slack_signs_kept(&mut self.prefixes, bits, at, [(k, r.kind)])[0] == Sign::Zero,
+            };
+            if same && !proven_zero() {
                 inside.remove(g);
+                off_root.remove(g);
                 feasible.remove(g + 1);
             } else {
                 g += 1;
@@ -649,6 +666,23 @@ impl<T: Real> Sweep<'_, T> {
             }
         }
         out
+    }
+
+    /// Step k's slacks ([stretched, folded]) at a candidate whose slack in
+    /// `T` is far from zero ([`tolerance::OFF_ROOT`] of the scale, so most
+    /// likely a root of another branch), where f64 balls prove both: the
+    /// step closes on both sides of it, or on neither, as at the point
+    /// itself, so the gaps beside it need no point of their own. `None`
+    /// otherwise (near zero: a root to place, not to prove; or not proven in
+    /// f64, so the gaps are asked as before). Which candidates are asked is
+    /// a matter of cost only: every answer used is proven.
+    fn off_root_signs(&mut self, k: usize, bits: &[bool], r: &Root<T>) -> Option<[Sign; 2]> {
+        if !(r.slack.to_f64().abs() > tolerance::OFF_ROOT * self.con.scale) {
+            return None;
+        }
+        let at = Place { lambda: r.lambda.to_f64(), events: &[] };
+        let questions = [(k, Kind::Stretched), (k, Kind::Folded)];
+        self.cert.slack_signs_in_f64(&mut self.prefixes, bits, at, questions)
     }
 
     /// Whether step k closes on the open gap (a, b) between two roots, from

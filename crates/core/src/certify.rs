@@ -415,27 +415,38 @@ impl Certifier {
         at: At,
         questions: [(usize, Kind); N],
     ) -> [Sign; N] {
-        if let Some(signs) = self.on_base_signs(at, &questions) {
+        if let Some(signs) = self.slack_signs_in_f64(prefixes, bits, at, questions) {
             return signs;
-        }
-        let upto = questions.iter().map(|&(k, _)| k).max().unwrap_or(0);
-        if let Some(mask) = flat_mask(at.events)
-            && upto < 128
-            && let Some(l) = self.bracket(&self.f64_balls, bits, at, Dd::new(at.lambda))
-        {
-            let d = prefixes.balls.distances(&self.f64_balls, l, bits, upto, mask);
-            let steps = &self.f64_balls.steps;
-            let proven = |(k, kind): (usize, Kind)| {
-                let d = *d.get(k)?;
-                Sign::of(kind.slack_value(steps[k].r1, steps[k].r2, d).sign())
-            };
-            let signs = questions.map(proven);
-            if signs.iter().all(Option::is_some) {
-                return signs.map(|s| s.expect("all proven"));
-            }
         }
         let signs = self.slack_signs_in(Some(prefixes), bits, at, &questions);
         std::array::from_fn(|i| signs[i])
+    }
+
+    /// [`Self::slack_signs_kept`] where f64 balls (or a step on the base)
+    /// prove every answer; `None` where one would need double-double. A
+    /// question asked here to save others costs no more than f64 balls and
+    /// never an estimate.
+    pub fn slack_signs_in_f64<const N: usize>(
+        &self,
+        prefixes: &mut Prefixes,
+        bits: &[bool],
+        at: At,
+        questions: [(usize, Kind); N],
+    ) -> Option<[Sign; N]> {
+        if let Some(signs) = self.on_base_signs(at, &questions) {
+            return Some(signs);
+        }
+        let upto = questions.iter().map(|&(k, _)| k).max().unwrap_or(0);
+        let mask = flat_mask(at.events).filter(|_| upto < 128)?;
+        let l = self.bracket(&self.f64_balls, bits, at, Dd::new(at.lambda))?;
+        let d = prefixes.balls.distances(&self.f64_balls, l, bits, upto, mask);
+        let steps = &self.f64_balls.steps;
+        let proven = |(k, kind): (usize, Kind)| {
+            let d = *d.get(k)?;
+            Sign::of(kind.slack_value(steps[k].r1, steps[k].r2, d).sign())
+        };
+        let signs = questions.map(proven);
+        signs.iter().all(Option::is_some).then(|| signs.map(|s| s.expect("all proven")))
     }
 
     /// The signs of questions about steps standing on the base, proven

@@ -178,6 +178,14 @@ pub const ROOT_MAX_SPLITS: u32 = 40;
 /// not split again there.
 pub const INFLECTION_AT_END: f64 = 1e-6;
 
+/// A closed-form candidate whose slack (in f64, for the prefix being
+/// refined) is farther than this × scale from zero is asked about with f64
+/// balls before the gaps beside it: likely another branch's root, whose
+/// proven slacks then decide both gaps. A matter of cost only (nearer
+/// candidates are placed as roots and their gaps asked at midpoints, as
+/// before); every decision still rests on a proof.
+pub const OFF_ROOT: f64 = 1e-8;
+
 /// Where step k is proven flat at a piece end, a root candidate within this
 /// many units of roundoff × |λ| of that end is the same root computed
 /// another way (the closed form and the end's own λ differ by rounding).
