@@ -558,10 +558,11 @@ impl<T: Real> Sweep<'_, T> {
             let from_ends =
                 if n_gaps == 1 { end_closes(ends[0]).filter(|&c| Some(c) == end_closes(ends[1])) } else { None };
             // Likewise a gap between two candidates proven not to be roots
-            // where step k closes at both, or at neither: its slacks keep
-            // their signs from one to the other.
-            let point = |i: Option<usize>| i.and_then(|i| off_root[i]).and_then(end_closes);
-            let (left, right) = (point(g.checked_sub(1)), point((g + 1 < n_gaps).then_some(g)));
+            // (or a piece end), where step k closes at both, or at neither:
+            // its slacks keep their signs from one to the other.
+            let point = |i: usize| off_root[i].and_then(end_closes);
+            let left = if g == 0 { end_closes(ends[0]) } else { point(g - 1) };
+            let right = if g == n_gaps - 1 { end_closes(ends[1]) } else { point(g) };
             let from_points = left.filter(|_| left == right);
             let proven = from_ends.or(from_points).or_else(|| self.gap_closes(k, bits, a, b));
             let proven = proven.or_else(|| {
