@@ -722,3 +722,43 @@ fn a_kite_on_its_diagonal_ends_at_a_proven_degenerate_place() {
     assert!(text.contains("an end at λ = 0 where no step is flat (a degenerate place"), "{text}");
     assert!(!text.contains("a dead end at λ = 0 ()"), "{text}");
 }
+
+/// Issue 12: the sweep asks about a closed-form candidate far from being its
+/// prefix's root in f64 balls alone (`Certifier::slack_signs_in_f64`, which
+/// never escalates). Where those balls prove the signs they are the general
+/// path's answers; at an exact tangency, where only double-double can say
+/// zero, they claim nothing.
+#[test]
+fn f64_only_signs_are_the_general_answers_or_none() {
+    use caymos::certify::{At, Prefixes, Sign};
+    let (_, s) = solved("limacon");
+    let inv = caymos::invert::Inverter { con: &s.construction, dec: &s.dec, cx: &s.complexity };
+    let k = 3;
+    let step = &s.construction.steps[k];
+    let questions = [(k, Kind::Stretched), (k, Kind::Folded)];
+    let mut prefixes = Prefixes::default();
+    let (mut proven, mut asked) = (0, 0);
+    for target in [step.r1 + step.r2, (step.r1 - step.r2).abs()] {
+        for lambda in inv.candidates(k, target) {
+            for code in 0..8u32 {
+                let bits: Vec<bool> = (0..k).map(|i| code >> i & 1 == 1).collect();
+                let at = At { lambda, events: &[] };
+                let general = s.certifier.slack_signs(&bits, at, &questions);
+                asked += 1;
+                if let Some(f64_only) = s.certifier.slack_signs_in_f64(&mut prefixes, &bits, at, questions) {
+                    assert_eq!(f64_only.to_vec(), general, "λ = {lambda}, bits {bits:?}");
+                    proven += 1;
+                }
+            }
+        }
+    }
+    assert!(proven > asked / 2, "{proven} of {asked} proven in f64 balls");
+    // The tangency's isolated point: step 2 touches folded there.
+    let (_, s) = solve(caymos::generate::tangency());
+    let end = &s.space.intervals[0].lower;
+    let bits = &s.space.intervals[0].ty.0;
+    let at = At { lambda: end.lambda, events: &end.events };
+    let touch = [(1, Kind::Folded)];
+    assert_eq!(s.certifier.slack_signs_in_f64(&mut Prefixes::default(), bits, at, touch), None);
+    assert_eq!(s.certifier.slack_signs(bits, at, &touch), [Sign::Zero]);
+}
