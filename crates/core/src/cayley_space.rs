@@ -678,7 +678,8 @@ impl<T: Real> Sweep<'_, T> {
     /// f64, so the gaps are asked as before). Which candidates are asked is
     /// a matter of cost only: every answer used is proven.
     fn off_root_signs(&mut self, k: usize, bits: &[bool], r: &Root<T>) -> Option<[Sign; 2]> {
-        if !(r.slack.to_f64().abs() > tolerance::OFF_ROOT * self.con.scale) {
+        let off = r.slack.to_f64().abs();
+        if off.is_nan() || off <= tolerance::OFF_ROOT * self.con.scale {
             return None;
         }
         let at = Place { lambda: r.lambda.to_f64(), events: &[] };
