@@ -762,3 +762,27 @@ fn f64_only_signs_are_the_general_answers_or_none() {
     assert_eq!(s.certifier.slack_signs_in_f64(&mut Prefixes::default(), bits, at, touch), None);
     assert_eq!(s.certifier.slack_signs(bits, at, &touch), [Sign::Zero]);
 }
+
+/// Peaucellier's rhombus folded: B ◁ (O, C) and D ◁ (O, C) are twins (the
+/// same base joints, bars of the same lengths as written), so with the same
+/// orientation they are one point and P ◁ (B, D), with equal sides, has base
+/// distance exactly 0 (its vertex turns freely). The sweep's questions there
+/// are proven from that structure, with no double-double estimate; with
+/// opposite orientations B and D are apart and the folded slack is positive.
+#[test]
+fn twin_steps_prove_a_folded_rhombus_exactly() {
+    use caymos::certify::{At, Prefixes, Sign};
+    let (_, s) = solved("peaucellier");
+    let cert = &s.certifier;
+    let questions = [(3, Kind::Stretched), (3, Kind::Folded)];
+    let at = At { lambda: 3.0, events: &[] };
+    let before = cert.estimated();
+    let same = cert.slack_signs_kept(&mut Prefixes::default(), &[true, true, true], at, questions);
+    assert_eq!(same, [Sign::Positive, Sign::Zero]);
+    assert_eq!(cert.estimated(), before, "proven, not estimated");
+    let apart = cert.slack_signs_kept(&mut Prefixes::default(), &[true, true, false], at, questions);
+    assert_eq!(apart, [Sign::Positive, Sign::Positive]);
+    // The general path (which does not know twins) agrees where it decides.
+    assert_eq!(cert.slack_signs(&[true, true, false], at, &questions), apart.to_vec());
+    assert_eq!(cert.slack_signs(&[true, true, true], at, &questions), same.to_vec());
+}

@@ -71,6 +71,9 @@ pub struct Certifier {
     dec: Arc<Decomposition>,
     /// Per step: the ways it can stop closing (see [`Certifier::kinds`]).
     kinds: Vec<&'static [Kind]>,
+    /// Per step with equal sides: the two twin steps placing its base
+    /// joints, if any (see [`Certifier::twins`]).
+    twins: Vec<Option<[usize; 2]>>,
     /// Proven end brackets already searched, keyed by [`BracketKey`]
     /// (the same end is asked about once per later step).
     brackets: RefCell<IntMap<BracketKey, Option<f64>>>,
@@ -303,6 +306,7 @@ impl Certifier {
             linkage,
             dec,
             kinds: Vec::new(),
+            twins: Vec::new(),
             brackets: RefCell::new(IntMap::default()),
             refined: RefCell::new(IntMap::default()),
             estimated: Cell::new(0),
@@ -321,6 +325,7 @@ impl Certifier {
             })
             .collect::<Option<Vec<_>>>()?;
         cert.kinds = kinds;
+        cert.twins = cert.twins();
         Some(cert)
     }
 
@@ -415,11 +420,59 @@ impl Certifier {
         at: At,
         questions: [(usize, Kind); N],
     ) -> [Sign; N] {
-        if let Some(signs) = self.slack_signs_in_f64(prefixes, bits, at, questions) {
-            return signs;
+        let fast = self.signs_in_f64(prefixes, bits, at, questions);
+        let signs = std::array::from_fn(|i| fast[i].or_else(|| self.twin_zero(bits, at, questions[i])));
+        if signs.iter().all(Option::is_some) {
+            return signs.map(|s| s.expect("all proven"));
         }
         let signs = self.slack_signs_in(Some(prefixes), bits, at, &questions);
         std::array::from_fn(|i| signs[i])
+    }
+
+    /// The steps whose base joints are placed by two twin steps: steps on
+    /// the same base joints (in the same order) whose clusters are single
+    /// bars of the same lengths as written (equal double-doubles), so the
+    /// same formula from the same inputs. Twins with the same orientation,
+    /// or flat (then both are, at the same λ), place their vertices at one
+    /// point, exactly: the step on them has base distance 0 there (the
+    /// folded rhombus of Peaucellier's inversor). Only steps with equal
+    /// sides are looked at (with unequal ones a zero base distance is a
+    /// negative folded slack, which balls prove).
+    fn twins(&self) -> Vec<Option<[usize; 2]>> {
+        let steps = &self.dec.steps;
+        if self.kinds.iter().all(|k| k.len() == 2) {
+            return vec![None; steps.len()];
+        }
+        let bar_length = |c: usize| match self.dec.clusters.nodes[c].origin {
+            crate::decompose::Origin::Bar(i) => Some(self.linkage.bars[i].exact),
+            _ => None,
+        };
+        let same = |x: Option<Dd>, y: Option<Dd>| x.zip(y).is_some_and(|(x, y)| x.hi == y.hi && x.lo == y.lo);
+        let placing = |joint: usize| steps.iter().position(|s| s.vertex == joint);
+        (0..steps.len())
+            .map(|k| {
+                if self.kinds[k].len() != 1 {
+                    return None;
+                }
+                let (a, b) = (placing(steps[k].u)?, placing(steps[k].w)?);
+                let (sa, sb) = (&steps[a], &steps[b]);
+                let twins = a != b
+                    && (sa.u, sa.w) == (sb.u, sb.w)
+                    && same(bar_length(sa.cluster_u), bar_length(sb.cluster_u))
+                    && same(bar_length(sa.cluster_w), bar_length(sb.cluster_w));
+                twins.then_some([a, b])
+            })
+            .collect()
+    }
+
+    /// [`Sign::Zero`] for the folded slack of an equal-sided step on twin
+    /// steps' vertices (see [`Self::twins`]) where they coincide: the same
+    /// orientation bits, or one of them flat at `at`. Asked only at places
+    /// where the steps before it close (every place the sweep asks about).
+    fn twin_zero(&self, bits: &[bool], at: At, (k, kind): (usize, Kind)) -> Option<Sign> {
+        let [a, b] = self.twins.get(k).copied().flatten()?;
+        let flat = at.events.iter().any(|e| e.step == a || e.step == b);
+        (kind == Kind::Folded && (bits[a] == bits[b] || flat)).then_some(Sign::Zero)
     }
 
     /// [`Self::slack_signs_kept`] where f64 balls (or a step on the base)
@@ -433,20 +486,32 @@ impl Certifier {
         at: At,
         questions: [(usize, Kind); N],
     ) -> Option<[Sign; N]> {
+        let signs = self.signs_in_f64(prefixes, bits, at, questions);
+        signs.iter().all(Option::is_some).then(|| signs.map(|s| s.expect("all proven")))
+    }
+
+    /// Each of [`Self::slack_signs_in_f64`]'s answers that f64 balls (or a
+    /// step on the base) prove.
+    fn signs_in_f64<const N: usize>(
+        &self,
+        prefixes: &mut Prefixes,
+        bits: &[bool],
+        at: At,
+        questions: [(usize, Kind); N],
+    ) -> [Option<Sign>; N] {
         if let Some(signs) = self.on_base_signs(at, &questions) {
-            return Some(signs);
+            return signs.map(Some);
         }
         let upto = questions.iter().map(|&(k, _)| k).max().unwrap_or(0);
-        let mask = flat_mask(at.events).filter(|_| upto < 128)?;
-        let l = self.bracket(&self.f64_balls, bits, at, Dd::new(at.lambda))?;
+        let Some(mask) = flat_mask(at.events).filter(|_| upto < 128) else { return [None; N] };
+        let Some(l) = self.bracket(&self.f64_balls, bits, at, Dd::new(at.lambda)) else { return [None; N] };
         let d = prefixes.balls.distances(&self.f64_balls, l, bits, upto, mask);
         let steps = &self.f64_balls.steps;
         let proven = |(k, kind): (usize, Kind)| {
             let d = *d.get(k)?;
             Sign::of(kind.slack_value(steps[k].r1, steps[k].r2, d).sign())
         };
-        let signs = questions.map(proven);
-        signs.iter().all(Option::is_some).then(|| signs.map(|s| s.expect("all proven")))
+        questions.map(proven)
     }
 
     /// The signs of questions about steps standing on the base, proven
