@@ -786,3 +786,23 @@ fn twin_steps_prove_a_folded_rhombus_exactly() {
     assert_eq!(cert.slack_signs(&[true, true, false], at, &questions), apart.to_vec());
     assert_eq!(cert.slack_signs(&[true, true, true], at, &questions), same.to_vec());
 }
+
+/// A rhombus on either diagonal: its two steps stand on the base with the
+/// same sides as written, so both are flat at one λ, exactly (where one
+/// folds, the other does, and where one stretches the other does). Those
+/// coincidences are proven from the lengths as written, none estimated.
+#[test]
+fn a_rhombus_on_a_diagonal_proves_its_coincident_ends() {
+    let text = "name = \"rhombus\"\nbase = [\"A\", \"C\"]\nbars = [[\"A\", \"B\", 3], [\"B\", \"C\", 3], [\"C\", \"D\", 3], [\"D\", \"A\", 3]]\n[joints]\nA = [0, 0]\nB = [1.5, 2.598076211353316]\nC = [4.5, 2.598076211353316]\nD = [3, 0]\n";
+    let scene = parse_scene(text, "rhombus", "rhombus").unwrap();
+    for base in [["A", "C"], ["B", "D"]] {
+        let ids = base.map(|n| scene.joints.iter().position(|j| j.name == n).unwrap());
+        let (a, s) = solve_with(scene.clone(), Some(ids), Scope::Full);
+        assert!(s.space.notes.iter().any(|n| matches!(n, Note::Coincident { .. })), "{base:?}: the folds coincide");
+        assert!(
+            !a.warnings.iter().any(|w| matches!(w, Warning::EstimatedDecisions { .. })),
+            "{base:?}: {:?}",
+            a.warnings
+        );
+    }
+}

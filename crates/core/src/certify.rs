@@ -443,11 +443,6 @@ impl Certifier {
         if self.kinds.iter().all(|k| k.len() == 2) {
             return vec![None; steps.len()];
         }
-        let bar_length = |c: usize| match self.dec.clusters.nodes[c].origin {
-            crate::decompose::Origin::Bar(i) => Some(self.linkage.bars[i].exact),
-            _ => None,
-        };
-        let same = |x: Option<Dd>, y: Option<Dd>| x.zip(y).is_some_and(|(x, y)| x.hi == y.hi && x.lo == y.lo);
         let placing = |joint: usize| steps.iter().position(|s| s.vertex == joint);
         (0..steps.len())
             .map(|k| {
@@ -456,13 +451,31 @@ impl Certifier {
                 }
                 let (a, b) = (placing(steps[k].u)?, placing(steps[k].w)?);
                 let (sa, sb) = (&steps[a], &steps[b]);
-                let twins = a != b
-                    && (sa.u, sa.w) == (sb.u, sb.w)
-                    && same(bar_length(sa.cluster_u), bar_length(sb.cluster_u))
-                    && same(bar_length(sa.cluster_w), bar_length(sb.cluster_w));
+                let sides = self.bar_sides(a).zip(self.bar_sides(b));
+                let twins = a != b && (sa.u, sa.w) == (sb.u, sb.w) && sides.is_some_and(|(x, y)| x == y);
                 twins.then_some([a, b])
             })
             .collect()
+    }
+
+    /// Step k's sides |u v| and |w v| as written (each bit of their
+    /// double-doubles), where both its clusters are single bars.
+    fn bar_sides(&self, k: usize) -> Option<[[u64; 2]; 2]> {
+        let step = &self.dec.steps[k];
+        let length = |c: usize| match self.dec.clusters.nodes[c].origin {
+            crate::decompose::Origin::Bar(i) => Some(self.linkage.bars[i].exact),
+            _ => None,
+        };
+        let bits = |x: Dd| [x.hi.to_bits(), x.lo.to_bits()];
+        Some([bits(length(step.cluster_u)?), bits(length(step.cluster_w)?)])
+    }
+
+    /// Whether steps a and b are flat (`kind`) at one λ, exactly: their
+    /// sides are the same bars' lengths as written (in either order: the
+    /// targets r1 + r2 and |r1 − r2| do not depend on it).
+    fn same_target(&self, a: usize, b: usize) -> bool {
+        let (Some(x), Some(y)) = (self.bar_sides(a), self.bar_sides(b)) else { return false };
+        x == y || x == [y[1], y[0]]
     }
 
     /// [`Sign::Zero`] for the folded slack of an equal-sided step on twin
@@ -537,9 +550,16 @@ impl Certifier {
             let s = &con.steps[k];
             let slack = kind.slack_value(s.r1, s.r2, lambda);
             // With equal sides the folded slack is d = λ itself: at an exact
-            // λ = 0 (the base's end) it is exactly zero, proven.
+            // λ = 0 (the base's end) it is exactly zero, proven. At an end
+            // where another step on the base is flat the same way with the
+            // same sides as written, λ is this step's target too, exactly.
             let exact_zero = kind == Kind::Folded && self.kinds(k).len() == 1 && lambda == Ball::exact(0.0);
-            *sign = if exact_zero { Sign::Zero } else { Sign::of(slack.sign())? };
+            let twin_end = || at.events.first().is_some_and(|e| e.kind == kind && self.same_target(e.step, k));
+            *sign = match Sign::of(slack.sign()) {
+                Some(s) if !exact_zero => s,
+                _ if exact_zero || twin_end() => Sign::Zero,
+                _ => return None,
+            };
         }
         Some(signs)
     }
