@@ -548,23 +548,19 @@ impl<T: Real> Sweep<'_, T> {
         for g in 0..n_gaps {
             let a = if g == 0 { piece.lo.lambda } else { inside[g - 1].lambda };
             let b = if g == n_gaps - 1 { piece.hi.lambda } else { inside[g].lambda };
-            // A piece without a root of step k inside keeps each slack's
-            // sign all along (a change would be a root): where both ends'
-            // proofs agree that it closes, or that it does not, they decide
-            // and no midpoint is needed. A gap beside a root keeps its
-            // midpoint: deciding it from the end disagreed with the midpoint
-            // at Peaucellier's fourth-order touch on base A–B (a sign change
-            // that the candidates did not bound).
-            let from_ends =
-                if n_gaps == 1 { end_closes(ends[0]).filter(|&c| Some(c) == end_closes(ends[1])) } else { None };
-            // Likewise a gap between two candidates proven not to be roots
-            // (or a piece end), where step k closes at both, or at neither:
-            // its slacks keep their signs from one to the other.
+            // Between two places proven to be no root of step k (the piece's
+            // ends, or candidates proven off-root) each slack keeps its sign
+            // (a change would be a root): where the proofs at both agree that
+            // it closes, or that it does not, they decide and no midpoint is
+            // needed. A gap beside a root keeps its midpoint: deciding it from
+            // one side alone disagreed with the midpoint at Peaucellier's
+            // fourth-order touch on base A–B (a sign change that the
+            // candidates did not bound).
             let point = |i: usize| off_root[i].and_then(end_closes);
             let left = if g == 0 { end_closes(ends[0]) } else { point(g - 1) };
             let right = if g == n_gaps - 1 { end_closes(ends[1]) } else { point(g) };
-            let from_points = left.filter(|_| left == right);
-            let proven = from_ends.or(from_points).or_else(|| self.gap_closes(k, bits, a, b));
+            let from_sides = left.filter(|_| left == right);
+            let proven = from_sides.or_else(|| self.gap_closes(k, bits, a, b));
             let proven = proven.or_else(|| {
                 let between = (g > 0 && g < n_gaps - 1).then(|| [inside[g - 1], inside[g]])?;
                 self.gap_between_non_roots(k, bits, between)

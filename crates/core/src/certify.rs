@@ -409,10 +409,11 @@ impl Certifier {
         self.slack_signs_in(None, bits, at, questions)
     }
 
-    /// [`Self::slack_signs_in`] for a sweep's fixed few questions. Most are
-    /// proven by the f64 balls of the prefix kept for the place (at any
-    /// depth: even a first step's question then allocates nothing); the
-    /// rest take the general path.
+    /// [`Self::slack_signs_in`] for a sweep's fixed few questions, asked
+    /// where the steps before them close. Most are proven by the f64 balls
+    /// of the prefix kept for the place (at any depth: even a first step's
+    /// question then allocates nothing), and a folded rhombus by its twin
+    /// steps ([`Self::twin_zero`]); the rest take the general path.
     pub fn slack_signs_kept<const N: usize>(
         &self,
         prefixes: &mut Prefixes,
@@ -470,9 +471,9 @@ impl Certifier {
         Some([bits(length(step.cluster_u)?), bits(length(step.cluster_w)?)])
     }
 
-    /// Whether steps a and b are flat (`kind`) at one λ, exactly: their
-    /// sides are the same bars' lengths as written (in either order: the
-    /// targets r1 + r2 and |r1 − r2| do not depend on it).
+    /// Whether steps a and b have the same targets r1 + r2 and |r1 − r2|,
+    /// exactly: their sides are the same bars' lengths as written (in
+    /// either order), so each is flat the same way at the same λ.
     fn same_target(&self, a: usize, b: usize) -> bool {
         let (Some(x), Some(y)) = (self.bar_sides(a), self.bar_sides(b)) else { return false };
         x == y || x == [y[1], y[0]]
