@@ -72,7 +72,8 @@ pub struct Certifier {
     /// Per step: the ways it can stop closing (see [`Certifier::kinds`]).
     kinds: Vec<&'static [Kind]>,
     /// Per step with equal sides: the two twin steps placing its base
-    /// joints, if any (see [`Certifier::twins`]).
+    /// joints, if any (see [`Certifier::twins`]); empty where no step has
+    /// equal sides.
     twins: Vec<Option<[usize; 2]>>,
     /// Proven end brackets already searched, keyed by [`BracketKey`]
     /// (the same end is asked about once per later step).
@@ -442,7 +443,7 @@ impl Certifier {
     fn twins(&self) -> Vec<Option<[usize; 2]>> {
         let steps = &self.dec.steps;
         if self.kinds.iter().all(|k| k.len() == 2) {
-            return vec![None; steps.len()];
+            return Vec::new();
         }
         let placing = |joint: usize| steps.iter().position(|s| s.vertex == joint);
         (0..steps.len())
