@@ -445,7 +445,12 @@ impl Certifier {
         if self.kinds.iter().all(|k| k.len() == 2) {
             return Vec::new();
         }
-        let placing = |joint: usize| steps.iter().position(|s| s.vertex == joint);
+        // The step placing each joint as its vertex (one pass, not a search per step).
+        let mut placed_by = vec![None; self.linkage.n_joints()];
+        for (k, s) in steps.iter().enumerate() {
+            placed_by[s.vertex] = Some(k);
+        }
+        let placing = |joint: usize| placed_by[joint];
         (0..steps.len())
             .map(|k| {
                 if self.kinds[k].len() != 1 {

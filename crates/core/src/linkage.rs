@@ -175,9 +175,7 @@ impl Linkage {
         }
         edges
     }
-}
 
-impl Linkage {
     /// The line of the scene file that declares the bar or body (`None`
     /// for one made in code, line 0).
     pub fn line_of(&self, c: Constraint) -> Option<usize> {
