@@ -50,7 +50,7 @@ fn hot_paths(c: &mut Criterion) {
         b.iter(|| con.realize(black_box(s.drawn.lambda), black_box(&s.drawn.ty)))
     });
     c.bench_function("Jansen full Cayley space (exact)", |b| {
-        b.iter(|| cayley_space(con, &s.certifier, jet.clone(), &s.dec, &s.complexity, black_box(Method::Exact)))
+        b.iter(|| cayley_space(con, &s.certifier, &jet, &s.dec, &s.complexity, black_box(Method::Exact)))
     });
     c.bench_function("Jansen components from the Cayley space", |b| b.iter(|| components(black_box(&s.space))));
     c.bench_function("Jansen lazy walk of the drawn component", |b| {
@@ -95,7 +95,7 @@ fn exact_vs_classic(c: &mut Criterion) {
         let con = &s.construction;
         let jet = con.convert::<Jet<f64>>();
         c.bench_function(&format!("{} Cayley space exact", b.name), |bch| {
-            bch.iter(|| cayley_space(con, &s.certifier, jet.clone(), &s.dec, &s.complexity, black_box(Method::Exact)))
+            bch.iter(|| cayley_space(con, &s.certifier, &jet, &s.dec, &s.complexity, black_box(Method::Exact)))
         });
         c.bench_function(&format!("{} Cayley space classic", b.name), |bch| {
             bch.iter(|| caymos::bench::classic_space(black_box(con), &s))

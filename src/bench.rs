@@ -298,7 +298,7 @@ fn full_analysis_by(scene: &crate::scene::Scene, requested: Option<[usize; 2]>, 
     });
     let Some((con, cert, _drawn)) = built else { return 0 };
     let space =
-        t.phase("cayley_space", || cayley_space(&con, &cert, con.convert::<Jet<f64>>(), &dec, &cx, Method::Exact));
+        t.phase("cayley_space", || cayley_space(&con, &cert, &con.convert::<Jet<f64>>(), &dec, &cx, Method::Exact));
     let comps = t.phase("components", || {
         black_box(crate::cayley_space::union(&space.intervals, linkage.scale));
         crate::motion::components(&space)
@@ -443,7 +443,7 @@ pub fn bench_scene(a: &Analysis, s: &Solved, repeat: usize) -> (Vec<MethodRow>, 
     let reference = {
         let (dd, jd) =
             crate::analysis::reference_constructions(&a.linkage, &s.dec).expect("shapes close in f64, so in dd");
-        spans(&cayley_space(&dd, &s.certifier, jd, &s.dec, &s.complexity, Method::Exact))
+        spans(&cayley_space(&dd, &s.certifier, &jd, &s.dec, &s.complexity, Method::Exact))
     };
     let mut rows = Vec::new();
     let methods: [Method; 4] = [
@@ -467,7 +467,7 @@ pub fn bench_scene(a: &Analysis, s: &Solved, repeat: usize) -> (Vec<MethodRow>, 
     };
     // The methods take turns within each repetition, so that every median
     // (and the ratio between two) sees the same machine load.
-    let space = |method: Method| cayley_space(con, &s.certifier, jet.clone(), &s.dec, &s.complexity, method);
+    let space = |method: Method| cayley_space(con, &s.certifier, &jet, &s.dec, &s.complexity, method);
     let mut runs: Vec<Box<dyn FnMut() + '_>> =
         methods.iter().map(|&method| Box::new(move || drop(black_box(space(method)))) as Box<dyn FnMut()>).collect();
     runs.push(Box::new(|| drop(black_box(classic_space(con, s)))));

@@ -24,7 +24,7 @@ fn assert_methods_agree(l: &Linkage, s: &Solved) {
     let numeric = cayley_space(
         &s.construction,
         &s.certifier,
-        jet,
+        &jet,
         &s.dec,
         &s.complexity,
         Method::Numeric { samples: 24, tol: 0.0 },

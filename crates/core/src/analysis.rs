@@ -354,7 +354,7 @@ pub fn reference_accuracy(
     space: &mut CayleySpace<f64>,
 ) -> Option<Accuracy> {
     let (con, jet) = reference_constructions(linkage, dec)?;
-    let reference = cayley_space(&con, cert, jet, dec, cx, space.method);
+    let reference = cayley_space(&con, cert, &jet, dec, cx, space.method);
     Some(compare_runs(&reference.intervals, &mut space.intervals, linkage.scale))
 }
 
@@ -769,7 +769,7 @@ pub fn analyse_checked(
     } else {
         timings.time("cayley_space", || {
             let plan = plan.expect("a full analysis has its plan");
-            cayley_space_planned(&construction, &certifier, construction.convert::<Jet<f64>>(), plan)
+            cayley_space_planned(&construction, &certifier, &construction.convert::<Jet<f64>>(), plan)
         })
     };
     let accuracy = if check == SelfCheck::Skip {

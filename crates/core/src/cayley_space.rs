@@ -190,7 +190,7 @@ struct Root<T> {
 struct Sweep<'a, T: Real> {
     con: &'a Construction<T>,
     cert: &'a Certifier,
-    jet: Construction<Jet<T>>,
+    jet: &'a Construction<Jet<T>>,
     /// Per step: closed-form candidates for [stretched, folded], or `None` to search numerically.
     exact: Vec<Option<[Vec<T>; 2]>>,
     samples: usize,
@@ -308,7 +308,7 @@ impl<T: Real> SweepPlan<T> {
 pub fn cayley_space<T: Real>(
     con: &Construction<T>,
     cert: &Certifier,
-    jet: Construction<Jet<T>>,
+    jet: &Construction<Jet<T>>,
     dec: &Decomposition,
     cx: &Complexity,
     method: Method,
@@ -320,7 +320,7 @@ pub fn cayley_space<T: Real>(
 pub fn cayley_space_planned<T: Real>(
     con: &Construction<T>,
     cert: &Certifier,
-    jet: Construction<Jet<T>>,
+    jet: &Construction<Jet<T>>,
     plan: SweepPlan<T>,
 ) -> CayleySpace<T> {
     sweep(con, cert, jet, plan, true)
@@ -331,7 +331,7 @@ pub fn cayley_space_planned<T: Real>(
 fn sweep<T: Real>(
     con: &Construction<T>,
     cert: &Certifier,
-    jet: Construction<Jet<T>>,
+    jet: &Construction<Jet<T>>,
     plan: SweepPlan<T>,
     reuse: bool,
 ) -> CayleySpace<T> {
@@ -970,7 +970,8 @@ P = [4.0, 1.86523063262]
             let con = Construction::<f64>::new(&linkage, &dec).expect("closes");
             let cert = Certifier::new(&linkage, &dec).expect("closes");
             let plan = SweepPlan::new(&con, &dec, &cx, Method::Exact);
-            let run = |reuse| sweep(&con, &cert, con.convert::<Jet<f64>>(), plan.clone(), reuse);
+            let jet = con.convert::<Jet<f64>>();
+            let run = |reuse| sweep(&con, &cert, &jet, plan.clone(), reuse);
             let (fresh, reused) = (run(false), run(true));
             let view = |s: &CayleySpace<f64>| {
                 s.intervals
