@@ -54,10 +54,15 @@ fn check_scene_on(scene: Scene, base: Option<[usize; 2]>) -> Result<usize, Strin
     let s: Solved = a.outcome.map_err(|_| format!("{name}: outside the class"))?;
     let jet = s.construction.convert::<Jet<f64>>();
     let tol = 1e-9 * a.linkage.scale;
-    for (k, c) in s.components.list.iter().enumerate() {
+    // One walk, and two walks at once from the start's two ends (forced on
+    // scenes of any size: by default only long chains go both ways).
+    let ways =
+        [usize::MAX, 0].map(|both_ways_from_steps| LazyOptions { both_ways_from_steps, ..LazyOptions::default() });
+    for ((k, c), options) in s.components.list.iter().enumerate().flat_map(|c| ways.map(|w| (c, w))) {
+        let name = format!("{name}, both ways from {} steps", options.both_ways_from_steps);
         let first = &s.space.intervals[c.intervals[0]];
         let start = 0.5 * (first.lower.lambda + first.upper.lambda);
-        let lazy = component_through(&s.construction, &s.certifier, &jet, &first.ty, start, LazyOptions::default())
+        let lazy = component_through(&s.construction, &s.certifier, &jet, &first.ty, start, options)
             .map_err(|e| format!("{name}: component {k}: start not realizable: {e:?}"))?;
         let lazy_components = components(&lazy);
         if lazy_components.list.len() != 1 {

@@ -449,7 +449,7 @@ impl<T: Real> Sweep<'_, T> {
         if self.con.on_base(k) {
             return Some(Jet::variable(lambda));
         }
-        base_distance_at(&self.jet, &mut self.positions.borrow_mut(), bits, k, Jet::variable(lambda))
+        base_distance_at(self.jet, &mut self.positions.borrow_mut(), bits, k, Jet::variable(lambda))
     }
 
     /// [`Self::distance`]'s value and slope alone (the same numbers).

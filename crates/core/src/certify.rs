@@ -22,8 +22,8 @@
 //! λ* lies inside), and the other slacks are evaluated on that whole
 //! bracket with the flat steps placed exactly flat — the realization at λ*.
 
-use std::cell::{Cell, OnceCell, RefCell};
-use std::sync::Arc;
+use std::cell::{Cell, RefCell};
+use std::sync::{Arc, OnceLock};
 
 use crate::decompose::Decomposition;
 use crate::inthash::IntMap;
@@ -58,13 +58,29 @@ impl Sign {
 /// question in f64 balls.
 #[derive(Debug, Clone)]
 pub struct Certifier {
+    /// The constructions, shared by [`Certifier::fork`]s (read only, but for
+    /// the double-double ones' first use).
+    built: Arc<Built>,
+    /// Proven end brackets already searched, keyed by [`BracketKey`]
+    /// (the same end is asked about once per later step).
+    brackets: RefCell<IntMap<BracketKey, Option<f64>>>,
+    /// Ends' λ already located in double-double ([`Certifier::refine_dd`]),
+    /// keyed like the brackets (without the arithmetic): every later step
+    /// and every question at the end asks for the same Newton iteration.
+    refined: RefCell<IntMap<RefineKey, Dd>>,
+    estimated: Cell<usize>,
+}
+
+/// What a [`Certifier`] decides with, built once.
+#[derive(Debug)]
+struct Built {
     f64_balls: Construction<Ball<f64>>,
     f64_plain: Construction<f64>,
     /// The double-double constructions, each built on first use (`None`:
     /// a cluster's stated lengths do not close in double-double). Deciding
     /// equal sides needs only the balls.
-    dd_balls: OnceCell<Option<Construction<Ball<Dd>>>>,
-    dd_plain: OnceCell<Option<DdPlain>>,
+    dd_balls: OnceLock<Option<Construction<Ball<Dd>>>>,
+    dd_plain: OnceLock<Option<DdPlain>>,
     /// Shared with the analysis (the double-double constructions are built
     /// from them on first use).
     linkage: Arc<Linkage>,
@@ -75,14 +91,6 @@ pub struct Certifier {
     /// joints, if any (see [`Certifier::twins`]); empty where no step has
     /// equal sides.
     twins: Vec<Option<[usize; 2]>>,
-    /// Proven end brackets already searched, keyed by [`BracketKey`]
-    /// (the same end is asked about once per later step).
-    brackets: RefCell<IntMap<BracketKey, Option<f64>>>,
-    /// Ends' λ already located in double-double ([`Certifier::refine_dd`]),
-    /// keyed like the brackets (without the arithmetic): every later step
-    /// and every question at the end asks for the same Newton iteration.
-    refined: RefCell<IntMap<RefineKey, Dd>>,
-    estimated: Cell<usize>,
 }
 
 /// An end's bracket depends on its λ, its first flat event, the type bits
@@ -299,15 +307,18 @@ impl Certifier {
     /// (no copy of either), with their f64 construction.
     pub fn shared(linkage: Arc<Linkage>, dec: Arc<Decomposition>, f64_plain: Construction<f64>) -> Option<Self> {
         let f64_balls: Construction<Ball<f64>> = Construction::new(&linkage, &dec).ok()?;
-        let mut cert = Certifier {
+        let built = Built {
             f64_balls,
             f64_plain,
-            dd_balls: OnceCell::new(),
-            dd_plain: OnceCell::new(),
+            dd_balls: OnceLock::new(),
+            dd_plain: OnceLock::new(),
             linkage,
             dec,
             kinds: Vec::new(),
             twins: Vec::new(),
+        };
+        let mut cert = Certifier {
+            built: Arc::new(built),
             brackets: RefCell::new(IntMap::default()),
             refined: RefCell::new(IntMap::default()),
             estimated: Cell::new(0),
@@ -315,9 +326,9 @@ impl Certifier {
         // Unequal sides proven in f64 balls are unequal in double-double
         // balls too (a narrower enclosure of the same number); only sides
         // f64 cannot separate need the double-double construction.
-        let kinds = (0..cert.dec.steps.len())
+        let kinds = (0..cert.built.dec.steps.len())
             .map(|k| {
-                let s = &cert.f64_balls.steps[k];
+                let s = &cert.built.f64_balls.steps[k];
                 let unequal = (s.r1 - s.r2).sign().is_some() || {
                     let s = &cert.dd_balls()?.steps[k];
                     (s.r1 - s.r2).sign().is_some()
@@ -325,27 +336,42 @@ impl Certifier {
                 Some(if unequal { &[Kind::Stretched, Kind::Folded][..] } else { &[Kind::Stretched][..] })
             })
             .collect::<Option<Vec<_>>>()?;
-        cert.kinds = kinds;
-        cert.twins = cert.twins();
+        let built = Arc::get_mut(&mut cert.built).expect("not shared yet");
+        built.kinds = kinds;
+        let twins = cert.twins();
+        Arc::get_mut(&mut cert.built).expect("not shared yet").twins = twins;
         Some(cert)
+    }
+
+    /// A certifier for another thread: the same constructions (shared, the
+    /// double-double ones built once for both), its own caches, and no
+    /// decisions counted yet.
+    pub fn fork(&self) -> Certifier {
+        Certifier {
+            built: self.built.clone(),
+            brackets: RefCell::new(IntMap::default()),
+            refined: RefCell::new(IntMap::default()),
+            estimated: Cell::new(0),
+        }
     }
 
     /// The double-double ball construction (built on first use; `None`
     /// when a cluster's stated lengths do not close in double-double).
     fn dd_balls(&self) -> Option<&Construction<Ball<Dd>>> {
-        self.dd_balls.get_or_init(|| Construction::new(&self.linkage, &self.dec).ok()).as_ref()
+        self.built.dd_balls.get_or_init(|| Construction::new(&self.built.linkage, &self.built.dec).ok()).as_ref()
     }
 
     /// The double-double plain construction, with the f64 slopes (built on
     /// first use, like [`Self::dd_balls`]).
     fn dd_plain(&self) -> Option<&DdPlain> {
-        self.dd_plain
+        self.built
+            .dd_plain
             .get_or_init(|| {
-                let plain = Construction::new(&self.linkage, &self.dec).ok()?;
+                let plain = Construction::new(&self.built.linkage, &self.built.dec).ok()?;
                 // Slope arithmetic on values is f64's own, operation for operation:
                 // the plain construction's numbers as constants are the ones
                 // `Construction::<Slope<f64>>::new` computes.
-                Some(DdPlain { plain, f64_slopes: self.f64_plain.map(Slope::constant) })
+                Some(DdPlain { plain, f64_slopes: self.built.f64_plain.map(Slope::constant) })
             })
             .as_ref()
     }
@@ -355,7 +381,7 @@ impl Certifier {
     /// negative, and d = 0 is a degenerate step (its base joints coincide,
     /// as in a rhombus), not an interval end.
     pub fn kinds(&self, k: usize) -> &'static [Kind] {
-        self.kinds[k]
+        self.built.kinds[k]
     }
 
     /// Whether cluster `c`'s joints lie on one line: `Some(true)` for two
@@ -375,11 +401,11 @@ impl Certifier {
                 (ux * vy - uy * vx).sign()
             })
         }
-        if self.f64_balls.shapes[c].len() <= 2 {
+        if self.built.f64_balls.shapes[c].len() <= 2 {
             return Some(true);
         }
         // f64 balls first (they prove most shapes bent), then double-double.
-        if crosses(&self.f64_balls.shapes[c], scale).any(|s| s.is_some()) {
+        if crosses(&self.built.f64_balls.shapes[c], scale).any(|s| s.is_some()) {
             return Some(false);
         }
         let balls = self.dd_balls()?;
@@ -395,7 +421,7 @@ impl Certifier {
             (a.kind.target(sa.r1, sa.r2) - b.kind.target(sb.r1, sb.r2)).sign()
         }
         let fine = || self.dd_balls().and_then(|balls| diff(balls, a, b));
-        Sign::of(diff(&self.f64_balls, a, b).or_else(fine)).unwrap_or(Sign::Zero)
+        Sign::of(diff(&self.built.f64_balls, a, b).or_else(fine)).unwrap_or(Sign::Zero)
     }
 
     /// The proven sign of step `k`'s slack for `kind` at `at`, for the type
@@ -441,19 +467,19 @@ impl Certifier {
     /// sides are looked at (with unequal ones a zero base distance is a
     /// negative folded slack, which balls prove).
     fn twins(&self) -> Vec<Option<[usize; 2]>> {
-        let steps = &self.dec.steps;
-        if self.kinds.iter().all(|k| k.len() == 2) {
+        let steps = &self.built.dec.steps;
+        if self.built.kinds.iter().all(|k| k.len() == 2) {
             return Vec::new();
         }
         // The step placing each joint as its vertex (one pass, not a search per step).
-        let mut placed_by = vec![None; self.linkage.n_joints()];
+        let mut placed_by = vec![None; self.built.linkage.n_joints()];
         for (k, s) in steps.iter().enumerate() {
             placed_by[s.vertex] = Some(k);
         }
         let placing = |joint: usize| placed_by[joint];
         (0..steps.len())
             .map(|k| {
-                if self.kinds[k].len() != 1 {
+                if self.built.kinds[k].len() != 1 {
                     return None;
                 }
                 let (a, b) = (placing(steps[k].u)?, placing(steps[k].w)?);
@@ -468,9 +494,9 @@ impl Certifier {
     /// Step k's sides |u v| and |w v| as written (each bit of their
     /// double-doubles), where both its clusters are single bars.
     fn bar_sides(&self, k: usize) -> Option<[[u64; 2]; 2]> {
-        let step = &self.dec.steps[k];
-        let length = |c: usize| match self.dec.clusters.nodes[c].origin {
-            crate::decompose::Origin::Bar(i) => Some(self.linkage.bars[i].exact),
+        let step = &self.built.dec.steps[k];
+        let length = |c: usize| match self.built.dec.clusters.nodes[c].origin {
+            crate::decompose::Origin::Bar(i) => Some(self.built.linkage.bars[i].exact),
             _ => None,
         };
         let bits = |x: Dd| [x.hi.to_bits(), x.lo.to_bits()];
@@ -490,7 +516,7 @@ impl Certifier {
     /// orientation bits, or one of them flat at `at`. Asked only at places
     /// where the steps before it close (every place the sweep asks about).
     fn twin_zero(&self, bits: &[bool], at: At, (k, kind): (usize, Kind)) -> Option<Sign> {
-        let [a, b] = self.twins.get(k).copied().flatten()?;
+        let [a, b] = self.built.twins.get(k).copied().flatten()?;
         let flat = at.events.iter().any(|e| e.step == a || e.step == b);
         (kind == Kind::Folded && (bits[a] == bits[b] || flat)).then_some(Sign::Zero)
     }
@@ -524,9 +550,9 @@ impl Certifier {
         }
         let upto = questions.iter().map(|&(k, _)| k).max().unwrap_or(0);
         let Some(mask) = flat_mask(at.events).filter(|_| upto < 128) else { return [None; N] };
-        let Some(l) = self.bracket(&self.f64_balls, bits, at, Dd::new(at.lambda)) else { return [None; N] };
-        let d = prefixes.balls.distances(&self.f64_balls, l, bits, upto, mask);
-        let steps = &self.f64_balls.steps;
+        let Some(l) = self.bracket(&self.built.f64_balls, bits, at, Dd::new(at.lambda)) else { return [None; N] };
+        let d = prefixes.balls.distances(&self.built.f64_balls, l, bits, upto, mask);
+        let steps = &self.built.f64_balls.steps;
         let proven = |(k, kind): (usize, Kind)| {
             let d = *d.get(k)?;
             Sign::of(kind.slack_value(steps[k].r1, steps[k].r2, d).sign())
@@ -542,7 +568,7 @@ impl Certifier {
     /// another step, about a step flat at `at`, or is not proven so (the
     /// general path decides it).
     fn on_base_signs<const N: usize>(&self, at: At, questions: &[(usize, Kind); N]) -> Option<[Sign; N]> {
-        let con = &self.f64_balls;
+        let con = &self.built.f64_balls;
         if at.events.first().is_some_and(|e| !con.on_base(e.step)) {
             return None;
         }
@@ -586,12 +612,19 @@ impl Certifier {
         let mask = flat_mask(at.events);
         let mut prefixes = prefixes;
         let mut enclose = |l: Ball<f64>| {
-            distances_at(prefixes.as_deref_mut().map(|p| &mut p.balls), &self.f64_balls, l, bits, upto, (mask, &flat))
+            distances_at(
+                prefixes.as_deref_mut().map(|p| &mut p.balls),
+                &self.built.f64_balls,
+                l,
+                bits,
+                upto,
+                (mask, &flat),
+            )
         };
-        let mut realize = |l: f64| self.f64_plain.base_distances_flat(l, bits, upto, &flat);
+        let mut realize = |l: f64| self.built.f64_plain.base_distances_flat(l, bits, upto, &flat);
         let fast = self.evaluate(
-            &self.f64_balls,
-            &self.f64_plain,
+            &self.built.f64_balls,
+            &self.built.f64_plain,
             bits,
             at,
             lambda,
@@ -645,7 +678,7 @@ impl Certifier {
         };
         self.estimated.set(self.estimated.get() + 1);
         let error = (x - y).abs() * (Dd::UNIT_ROUNDOFF / f64::UNIT_ROUNDOFF) * tolerance::ESTIMATE_MARGIN
-            + tolerance::ESTIMATE_FLOOR_ULPS * Dd::UNIT_ROUNDOFF * self.f64_balls.scale;
+            + tolerance::ESTIMATE_FLOOR_ULPS * Dd::UNIT_ROUNDOFF * self.built.f64_balls.scale;
         if y.abs() > error { if y > 0.0 { Sign::Positive } else { Sign::Negative } } else { Sign::Zero }
     }
 
@@ -825,7 +858,7 @@ impl Certifier {
     fn refine_dd(&self, bits: &[bool], at: At, lambda: Dd) -> Dd {
         let Some(&event) = at.events.first() else { return lambda };
         // A step on the base is flat at its target (in double-double).
-        if self.f64_plain.on_base(event.step)
+        if self.built.f64_plain.on_base(event.step)
             && let Some(dd) = self.dd_plain()
         {
             let s = &dd.plain.steps[event.step];

@@ -44,10 +44,12 @@
 
 use crate::cayley_space::{CayleySpace, Method, Note, OrientedInterval};
 use crate::certify::{At, Certifier, Closes, Sign};
+use crate::inthash::IntMap;
 use crate::real::{Jet, Real, Slope};
 use crate::realize::{Construction, Event, Kind, P2, RealizationType, Unrealizable};
 use std::cell::{Cell, RefCell};
 use std::collections::VecDeque;
+use std::sync::mpsc;
 
 use crate::roots::{
     Endpoint, EndpointIds, Extremum, base_distance_at, between, cmp, cosine_sample, newton, newton_from,
@@ -63,11 +65,20 @@ pub struct LazyOptions {
     pub samples: usize,
     /// The walk stops (and says so) after this many intervals.
     pub max_intervals: usize,
+    /// A scene with at least this many construction steps is walked both
+    /// ways from the start at once, on two threads (`usize::MAX`: one walk
+    /// always). The same component, and the same numbers on every run, but
+    /// not one walk's to the last bit: each end is located from the side
+    /// its walk reached it from.
+    pub both_ways_from_steps: usize,
 }
 
 impl Default for LazyOptions {
     fn default() -> Self {
-        LazyOptions { samples: 32, max_intervals: 1 << 16 }
+        // Below this a second walk costs about what it saves: most components
+        // of such scenes close within a few intervals, and the two walks
+        // each compute the middle one.
+        LazyOptions { samples: 32, max_intervals: 1 << 16, both_ways_from_steps: 256 }
     }
 }
 
@@ -367,6 +378,109 @@ struct Walker<'a, T: Real> {
     newton_evaluations: Cell<usize>,
 }
 
+/// The second walk's endpoint ids start after this (the first walk's never
+/// reach it); [`join_walks`] numbers them all afresh.
+const OTHER_WALK_IDS: usize = 1 << 40;
+
+/// Where a walk stands: at interval `cur`, about to leave it by its upper
+/// (or lower) end.
+#[derive(Clone, Copy)]
+struct Heading {
+    cur: usize,
+    leaving_upper: bool,
+}
+
+/// What one step of the flip rule did ([`Walker::advance`]).
+enum Advance<T> {
+    /// Walked one more interval.
+    Walked,
+    /// Back at this interval of the walk's own (its end shared): the walk
+    /// closes when it is the start.
+    Closed(usize),
+    /// At an interval the other walk has walked.
+    Met(Meeting<T>),
+    /// A dead end, a degenerate type, or the budget.
+    Stopped,
+}
+
+/// A walk's arrival at `others[index]` of the other walk: that interval's
+/// upper (`upper`) or lower end is `end`, this walk's.
+struct Meeting<T> {
+    index: usize,
+    upper: bool,
+    end: Endpoint<T>,
+}
+
+/// One walk's turn, sent to the other ([`Walker::lockstep`]).
+enum Turn<T> {
+    /// The interval it walked this turn.
+    Walked(OrientedInterval<T>),
+    /// It stopped.
+    Done,
+}
+
+/// The lower walk of [`Walker::both_ways`] when it stopped: its
+/// intervals (the start first), its meeting with the upward walk, and what
+/// it noted and counted.
+struct Walked<T> {
+    intervals: Vec<OrientedInterval<T>>,
+    met: Option<Meeting<T>>,
+    notes: Vec<Note>,
+    /// Steps realized, roots located, Newton evaluations.
+    counts: [usize; 3],
+    estimated: usize,
+}
+
+/// The component from its two walks, each as its intervals and its meeting
+/// with the other, if any: the upward walk's intervals (the start first),
+/// then the lower walk's (after its copy of the start) but an interval both
+/// walked in their last turn (they met inside it; the upward walk's copy
+/// stays). Where a walk met the other, the other's interval takes its end,
+/// so that the two share the endpoint as a single walk's neighbours do:
+/// the upward walk's meeting first; the lower walk's too unless it is the
+/// same junction seen from the other side (each met the other's last
+/// interval) or it left from the interval dropped. Endpoint ids are then
+/// numbered afresh, in order.
+fn join_walks<T: Real>(
+    (mut mine, up_met): (Vec<OrientedInterval<T>>, Option<Meeting<T>>),
+    (mut theirs, down_met): (Vec<OrientedInterval<T>>, Option<Meeting<T>>),
+    coincide: T,
+) -> Vec<OrientedInterval<T>> {
+    let near = |a: T, b: T| (a - b).abs() <= coincide;
+    let same = |a: &OrientedInterval<T>, b: &OrientedInterval<T>| {
+        a.ty == b.ty && near(a.lower.lambda, b.lower.lambda) && near(a.upper.lambda, b.upper.lambda)
+    };
+    let twice = theirs.len() > 1 && mine[1..].iter().any(|iv| same(iv, &theirs[theirs.len() - 1]));
+    let set = |iv: &mut OrientedInterval<T>, upper: bool, end: Endpoint<T>| {
+        if upper { iv.upper = end } else { iv.lower = end }
+    };
+    let one_junction = up_met.as_ref().is_some_and(|m| m.index + 2 == theirs.len())
+        && down_met.as_ref().is_some_and(|m| m.index + 2 == mine.len());
+    if let Some(m) = up_met {
+        set(&mut theirs[m.index + 1], m.upper, m.end);
+    }
+    if let Some(m) = down_met.filter(|_| !one_junction && !twice) {
+        set(&mut mine[m.index + 1], m.upper, m.end);
+    }
+    if twice {
+        theirs.pop();
+    }
+    mine.extend(theirs.into_iter().skip(1));
+    renumber(&mut mine);
+    mine
+}
+
+/// Endpoint ids numbered 1, 2, … in the order they first appear.
+fn renumber<T>(intervals: &mut [OrientedInterval<T>]) {
+    let mut new_ids: IntMap<usize, usize> = IntMap::default();
+    for iv in intervals.iter_mut() {
+        for end in [&mut iv.lower, &mut iv.upper] {
+            let next = new_ids.len() + 1;
+            end.id = *new_ids.entry(end.id).or_insert(next);
+        }
+    }
+}
+
 fn finite<T: Real>(j: &Jet<T>) -> bool {
     j.v.to_f64().is_finite() && j.d.to_f64().is_finite() && j.s.to_f64().is_finite()
 }
@@ -550,7 +664,11 @@ impl<'a, T: Real> Walker<'a, T> {
         let upper = self.next_end(&ty.0, &p0, one, &[]);
         let lower = self.next_end(&ty.0, &p0, -one, &[]);
         let (upper, lower) = (self.end_point(upper), self.end_point(lower));
-        let mut intervals = vec![OrientedInterval { ty: ty.clone(), lower, upper }];
+        let start = OrientedInterval { ty: ty.clone(), lower, upper };
+        if self.con.steps.len() >= self.options.both_ways_from_steps {
+            return self.both_ways(start);
+        }
+        let mut intervals = vec![start];
         if !self.walk(&mut intervals, true) {
             self.walk(&mut intervals, false);
         }
@@ -577,58 +695,151 @@ impl<'a, T: Real> Walker<'a, T> {
     /// Follow the flip rule from the start interval's upper (or lower) end
     /// until the walk returns to the start (`true`) or cannot go on.
     fn walk(&mut self, intervals: &mut Vec<OrientedInterval<T>>, from_upper: bool) -> bool {
-        let (mut cur, mut leaving_upper) = (0, from_upper);
+        let mut heading = Heading { cur: 0, leaving_upper: from_upper };
         loop {
-            let e = if leaving_upper { intervals[cur].upper.clone() } else { intervals[cur].lower.clone() };
-            if e.events.is_empty() {
-                return false;
+            match self.advance(intervals, &mut heading, &[]) {
+                Advance::Walked => {}
+                Advance::Closed(j) => return j == 0,
+                Advance::Met(_) | Advance::Stopped => return false,
             }
-            if intervals.len() >= self.options.max_intervals {
-                self.notes.push(Note::Unresolved {
-                    lambda: e.lambda.to_f64(),
-                    step: e.events[0].step,
-                    why: crate::cayley_space::Unresolved::WalkBudget { intervals: intervals.len() },
-                });
-                return false;
-            }
-            // Into the next type on the same side of λ: walk the other way.
-            let dir = T::from_f64(if leaving_upper { -1.0 } else { 1.0 });
-            let Some(next) = self.flip(&intervals[cur].ty, &e, dir) else {
-                return false;
+        }
+    }
+
+    /// One step of the flip rule from where `heading` points: the next
+    /// interval walked (pushed to `intervals`), or why the walk stops there.
+    /// `others` are the intervals another walk of the same component has
+    /// walked (from the start's other end, see [`Self::both_ways`]).
+    fn advance(
+        &mut self,
+        intervals: &mut Vec<OrientedInterval<T>>,
+        heading: &mut Heading,
+        others: &[OrientedInterval<T>],
+    ) -> Advance<T> {
+        let Heading { cur, leaving_upper } = *heading;
+        let e = if leaving_upper { intervals[cur].upper.clone() } else { intervals[cur].lower.clone() };
+        if e.events.is_empty() {
+            return Advance::Stopped;
+        }
+        let walked = intervals.len() + others.len();
+        if walked >= self.options.max_intervals {
+            self.notes.push(Note::Unresolved {
+                lambda: e.lambda.to_f64(),
+                step: e.events[0].step,
+                why: crate::cayley_space::Unresolved::WalkBudget { intervals: walked },
+            });
+            return Advance::Stopped;
+        }
+        // Into the next type on the same side of λ: walk the other way.
+        let dir = T::from_f64(if leaving_upper { -1.0 } else { 1.0 });
+        let Some(next) = self.flip(&intervals[cur].ty, &e, dir) else {
+            return Advance::Stopped;
+        };
+        let same_end = |iv: &OrientedInterval<T>| {
+            let end = if leaving_upper { &iv.upper } else { &iv.lower };
+            // One root computed twice: same type, side and flat steps.
+            iv.ty == next && end.events == e.events && (end.lambda - e.lambda).abs() <= self.coincide
+        };
+        if let Some(j) = intervals.iter().position(same_end) {
+            // Back at an interval already walked: share the endpoint.
+            let end = if leaving_upper { &mut intervals[j].upper } else { &mut intervals[j].lower };
+            *end = e;
+            return Advance::Closed(j);
+        }
+        if let Some(index) = others.iter().position(same_end) {
+            return Advance::Met(Meeting { index, upper: leaving_upper, end: e });
+        }
+        let p = self.probe(&next.0, e.lambda);
+        if let Some(k) = self.degenerate_beside(&next.0, &p, dir) {
+            // A type with a step whose base joints coincide turns that
+            // vertex freely: the component ends here, as in the sweep.
+            let at = e.lambda.to_f64();
+            self.notes.push(Note::Degenerate { lambda: [at, at], step: k });
+            return Advance::Stopped;
+        }
+        let recent = intervals.len().saturating_sub(RECENT);
+        self.closing =
+            intervals[recent..].iter().map(|iv| Closing::shared(iv, &next.0)).filter(|c| c.steps > 0).collect();
+        let other = self.next_end(&next.0, &p, dir, &e.events);
+        self.closing.clear();
+        let other = self.end_point(other);
+        let iv = if leaving_upper {
+            OrientedInterval { ty: next, lower: other, upper: e }
+        } else {
+            OrientedInterval { ty: next, lower: e, upper: other }
+        };
+        intervals.push(iv);
+        *heading = Heading { cur: intervals.len() - 1, leaving_upper: !leaving_upper };
+        Advance::Walked
+    }
+
+    /// [`Self::component`] from its start interval, walked both ways at
+    /// once on two threads: this walker from the start's upper end, a
+    /// second one (with a [`Certifier::fork`]) from its lower end. They take
+    /// turns in lockstep (each walks one interval, then each learns the
+    /// other's), so where they meet, and so every number, is the same on
+    /// every run. A walk stops at an interval the other has walked, as a
+    /// single walk stops at one of its own; the two lists are then joined
+    /// ([`join_walks`]).
+    fn both_ways(&mut self, start: OrientedInterval<T>) -> Vec<OrientedInterval<T>> {
+        let (con, jet, options) = (self.con, self.jet, self.options);
+        let cert = self.cert.fork();
+        let mut intervals = vec![start.clone()];
+        std::thread::scope(|scope| {
+            let (to_lower, from_upper) = mpsc::channel::<Turn<T>>();
+            let (to_upper, from_lower) = mpsc::channel::<Turn<T>>();
+            let lower_walk = scope.spawn(move || {
+                let mut walker = Walker::new(con, &cert, jet, options);
+                walker.ids = EndpointIds::after(OTHER_WALK_IDS);
+                let mut intervals = vec![start];
+                let heading = Heading { cur: 0, leaving_upper: false };
+                let met = walker.lockstep(&mut intervals, heading, (&to_upper, &from_upper));
+                let counts = [walker.steps_realized.get(), walker.roots.get(), walker.newton_evaluations.get()];
+                let estimated = cert.estimated();
+                Walked { intervals, met, notes: std::mem::take(&mut walker.notes), counts, estimated }
+            });
+            let heading = Heading { cur: 0, leaving_upper: true };
+            let met = self.lockstep(&mut intervals, heading, (&to_lower, &from_lower));
+            drop(to_lower);
+            let mut other = lower_walk.join().unwrap_or_else(|panic| std::panic::resume_unwind(panic));
+            let [steps, roots, evaluations] = other.counts;
+            self.count_steps(steps);
+            self.roots.set(self.roots.get() + roots);
+            self.newton_evaluations.set(self.newton_evaluations.get() + evaluations);
+            self.cert.count_estimated(other.estimated);
+            self.notes.append(&mut other.notes);
+            join_walks((intervals, met), (other.intervals, other.met), self.coincide)
+        })
+    }
+
+    /// [`Self::walk`] in turns with another walk of the same component
+    /// (see [`Self::both_ways`]): after each interval this one
+    /// walks, it sends it on `to` and receives the other's turn from `from`.
+    /// The meeting with the other walk, if the walk ends at one.
+    fn lockstep(
+        &mut self,
+        intervals: &mut Vec<OrientedInterval<T>>,
+        mut heading: Heading,
+        (to, from): (&mpsc::Sender<Turn<T>>, &mpsc::Receiver<Turn<T>>),
+    ) -> Option<Meeting<T>> {
+        let (mut others, mut other_done) = (Vec::new(), false);
+        loop {
+            let advance = self.advance(intervals, &mut heading, &others);
+            let turn = match advance {
+                Advance::Walked => Turn::Walked(intervals[intervals.len() - 1].clone()),
+                _ => Turn::Done,
             };
-            let same_end = |iv: &OrientedInterval<T>| {
-                let end = if leaving_upper { &iv.upper } else { &iv.lower };
-                // Our own root computed twice: same type, side and flat steps.
-                iv.ty == next && end.events == e.events && (end.lambda - e.lambda).abs() <= self.coincide
-            };
-            if let Some(j) = intervals.iter().position(same_end) {
-                // Back at an interval already walked: share the endpoint.
-                let end = if leaving_upper { &mut intervals[j].upper } else { &mut intervals[j].lower };
-                *end = e;
-                return j == 0;
+            let _ = to.send(turn);
+            match advance {
+                Advance::Walked => {}
+                Advance::Met(meeting) => return Some(meeting),
+                Advance::Closed(_) | Advance::Stopped => return None,
             }
-            let p = self.probe(&next.0, e.lambda);
-            if let Some(k) = self.degenerate_beside(&next.0, &p, dir) {
-                // A type with a step whose base joints coincide turns that
-                // vertex freely: the component ends here, as in the sweep.
-                let at = e.lambda.to_f64();
-                self.notes.push(Note::Degenerate { lambda: [at, at], step: k });
-                return false;
+            if !other_done {
+                match from.recv() {
+                    Ok(Turn::Walked(iv)) => others.push(iv),
+                    _ => other_done = true,
+                }
             }
-            let recent = intervals.len().saturating_sub(RECENT);
-            self.closing =
-                intervals[recent..].iter().map(|iv| Closing::shared(iv, &next.0)).filter(|c| c.steps > 0).collect();
-            let other = self.next_end(&next.0, &p, dir, &e.events);
-            self.closing.clear();
-            let other = self.end_point(other);
-            let iv = if leaving_upper {
-                OrientedInterval { ty: next, lower: other, upper: e }
-            } else {
-                OrientedInterval { ty: next, lower: e, upper: other }
-            };
-            intervals.push(iv);
-            cur = intervals.len() - 1;
-            leaving_upper = !leaving_upper;
         }
     }
 
@@ -1298,4 +1509,62 @@ fn certify<T: Real>(s0: Jet<T>, s1: Jet<T>, length: T) -> Shape {
     let positive =
         if convex0 { s0.d > zero || s0.v + s0.d * length > zero } else { s1.d < zero || s1.v - s1.d * length > zero };
     if positive { Shape::NoRoot } else { Shape::Inflection }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn end(lambda: f64, step: usize, id: usize) -> Endpoint<f64> {
+        Endpoint { lambda, events: vec![Event { step, kind: Kind::Stretched }], id }
+    }
+
+    fn interval(ty: &str, lower: &Endpoint<f64>, upper: &Endpoint<f64>) -> OrientedInterval<f64> {
+        let ty = RealizationType::parse(ty).expect("a type");
+        OrientedInterval { ty, lower: lower.clone(), upper: upper.clone() }
+    }
+
+    /// The ids of each interval's ends, in order.
+    fn ids(intervals: &[OrientedInterval<f64>]) -> Vec<[usize; 2]> {
+        intervals.iter().map(|iv| [iv.lower.id, iv.upper.id]).collect()
+    }
+
+    /// A loop of four intervals walked both ways: each walk computes the
+    /// middle one (its far end from its own side), and each meets the
+    /// other's first interval. The lower walk's copy of the middle goes,
+    /// with its meeting; the upward walk's far end becomes the lower walk's
+    /// interval's end, so every junction has one id.
+    #[test]
+    fn two_walks_that_both_computed_the_middle_join_into_one_loop() {
+        let (l, u) = (end(1.0, 0, 1), end(3.0, 1, 2));
+        let start = interval("++", &l, &u);
+        let (x, y) = (end(2.0, 0, 3), end(4.0, 1, 4));
+        let (a1, middle) = (interval("-+", &x, &u), interval("--", &x, &y));
+        let (y_other, x_other) = (end(4.0 + 1e-15, 1, 1 << 40 | 1), end(2.0, 0, 1 << 40 | 2));
+        let (b1, middle_other) = (interval("+-", &l, &y_other), interval("--", &x_other, &y_other));
+        let up = (vec![start.clone(), a1, middle], Some(Meeting { index: 0, upper: true, end: y.clone() }));
+        let down = (vec![start, b1, middle_other], Some(Meeting { index: 0, upper: false, end: x_other }));
+        let joined = join_walks(up, down, 1e-9);
+        let types: Vec<String> = joined.iter().map(|iv| iv.ty.to_string()).collect();
+        assert_eq!(types, ["++", "-+", "--", "+-"]);
+        assert_eq!(ids(&joined), [[1, 2], [3, 2], [3, 4], [1, 4]]);
+        assert_eq!(joined[3].upper.lambda, 4.0, "the upward walk's end is the shared one");
+    }
+
+    /// Two walks whose last intervals meet at one junction, each seeing the
+    /// other's: one end there, the upward walk's.
+    #[test]
+    fn two_walks_meeting_at_one_junction_share_the_upward_walks_end() {
+        let (l, u) = (end(1.0, 0, 1), end(3.0, 1, 2));
+        let start = interval("++", &l, &u);
+        let x = end(2.0, 2, 3);
+        let x_other = end(2.0 + 1e-15, 2, 1 << 40 | 1);
+        let a1 = interval("-+", &x, &u);
+        let b1 = interval("+-", &l, &x_other);
+        let up = (vec![start.clone(), a1], Some(Meeting { index: 0, upper: true, end: x.clone() }));
+        let down = (vec![start, b1], Some(Meeting { index: 0, upper: false, end: x_other }));
+        let joined = join_walks(up, down, 1e-9);
+        assert_eq!(ids(&joined), [[1, 2], [3, 2], [1, 3]]);
+        assert_eq!(joined[2].upper.lambda, 2.0);
+    }
 }

@@ -17,6 +17,8 @@ pub trait Real:
     + Mul<Output = Self>
     + Div<Output = Self>
     + Neg<Output = Self>
+    + Send
+    + Sync
 {
     /// Unit roundoff of the type (half the machine epsilon).
     const UNIT_ROUNDOFF: f64;

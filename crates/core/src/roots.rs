@@ -46,6 +46,10 @@ pub struct EndpointIds {
 }
 
 impl EndpointIds {
+    /// Ids from `last + 1` on.
+    pub fn after(last: usize) -> Self {
+        EndpointIds { last }
+    }
     /// A new endpoint at `lambda` with the flat steps `events`, under a fresh id.
     pub fn make<T>(&mut self, lambda: T, events: Vec<Event>) -> Endpoint<T> {
         self.last += 1;
