@@ -413,6 +413,8 @@ struct Meeting<T> {
 
 /// One walk's turn, sent to the other ([`Walker::lockstep`]).
 enum Turn<T> {
+    /// The start interval's end this walk found first.
+    Start(Endpoint<T>),
     /// The interval it walked this turn.
     Walked(OrientedInterval<T>),
     /// It stopped.
@@ -659,16 +661,15 @@ impl<'a, T: Real> Walker<'a, T> {
     /// walk upward from the start's upper end until it closes; an open walk
     /// (a dead end) is continued from the start's lower end as well.
     fn component(&mut self, ty: &RealizationType, lambda: T) -> Vec<OrientedInterval<T>> {
+        if self.con.steps.len() >= self.options.both_ways_from_steps {
+            return self.both_ways(ty, lambda);
+        }
         let p0 = self.probe(&ty.0, lambda);
         let one = T::from_f64(1.0);
         let upper = self.next_end(&ty.0, &p0, one, &[]);
         let lower = self.next_end(&ty.0, &p0, -one, &[]);
         let (upper, lower) = (self.end_point(upper), self.end_point(lower));
-        let start = OrientedInterval { ty: ty.clone(), lower, upper };
-        if self.con.steps.len() >= self.options.both_ways_from_steps {
-            return self.both_ways(start);
-        }
-        let mut intervals = vec![start];
+        let mut intervals = vec![OrientedInterval { ty: ty.clone(), lower, upper }];
         if !self.walk(&mut intervals, true) {
             self.walk(&mut intervals, false);
         }
@@ -772,33 +773,53 @@ impl<'a, T: Real> Walker<'a, T> {
         Advance::Walked
     }
 
-    /// [`Self::component`] from its start interval, walked both ways at
-    /// once on two threads: this walker from the start's upper end, a
-    /// second one (with a [`Certifier::fork`]) from its lower end. They take
+    /// [`Self::component`] walked both ways at once on two threads: this
+    /// walker from the start's upper end, a second one (with a
+    /// [`Certifier::fork`]) from its lower end, each finding that end first. They take
     /// turns in lockstep (each walks one interval, then each learns the
     /// other's), so where they meet, and so every number, is the same on
     /// every run. A walk stops at an interval the other has walked, as a
     /// single walk stops at one of its own; the two lists are then joined
     /// ([`join_walks`]).
-    fn both_ways(&mut self, start: OrientedInterval<T>) -> Vec<OrientedInterval<T>> {
+    fn both_ways(&mut self, ty: &RealizationType, lambda: T) -> Vec<OrientedInterval<T>> {
         let (con, jet, options) = (self.con, self.jet, self.options);
         let cert = self.cert.fork();
-        let mut intervals = vec![start.clone()];
         std::thread::scope(|scope| {
             let (to_lower, from_upper) = mpsc::channel::<Turn<T>>();
             let (to_upper, from_lower) = mpsc::channel::<Turn<T>>();
             let lower_walk = scope.spawn(move || {
                 let mut walker = Walker::new(con, &cert, jet, options);
                 walker.ids = EndpointIds::after(OTHER_WALK_IDS);
-                let mut intervals = vec![start];
+                let lower = walker.start_end(ty, lambda, false);
+                let _ = to_upper.send(Turn::Start(lower.clone()));
+                // Without the upper end the other walk failed: its panic is raised at the join.
+                let mut intervals = match from_upper.recv() {
+                    Ok(Turn::Start(upper)) => vec![OrientedInterval { ty: ty.clone(), lower, upper }],
+                    _ => Vec::new(),
+                };
                 let heading = Heading { cur: 0, leaving_upper: false };
-                let met = walker.lockstep(&mut intervals, heading, (&to_upper, &from_upper));
+                let met = if intervals.is_empty() {
+                    None
+                } else {
+                    walker.lockstep(&mut intervals, heading, (&to_upper, &from_upper))
+                };
                 let counts = [walker.steps_realized.get(), walker.roots.get(), walker.newton_evaluations.get()];
                 let estimated = cert.estimated();
                 Walked { intervals, met, notes: std::mem::take(&mut walker.notes), counts, estimated }
             });
-            let heading = Heading { cur: 0, leaving_upper: true };
-            let met = self.lockstep(&mut intervals, heading, (&to_lower, &from_lower));
+            let upper = self.start_end(ty, lambda, true);
+            let _ = to_lower.send(Turn::Start(upper.clone()));
+            let lower = match from_lower.recv() {
+                Ok(Turn::Start(lower)) => Some(lower),
+                _ => None,
+            };
+            let mut intervals = Vec::new();
+            let mut met = None;
+            if let Some(lower) = lower {
+                intervals.push(OrientedInterval { ty: ty.clone(), lower, upper });
+                let heading = Heading { cur: 0, leaving_upper: true };
+                met = self.lockstep(&mut intervals, heading, (&to_lower, &from_lower));
+            }
             drop(to_lower);
             let mut other = lower_walk.join().unwrap_or_else(|panic| std::panic::resume_unwind(panic));
             let [steps, roots, evaluations] = other.counts;
@@ -809,6 +830,13 @@ impl<'a, T: Real> Walker<'a, T> {
             self.notes.append(&mut other.notes);
             join_walks((intervals, met), (other.intervals, other.met), self.coincide)
         })
+    }
+
+    /// The start interval's upper (or lower) end, from a probe at λ.
+    fn start_end(&mut self, ty: &RealizationType, lambda: T, upper: bool) -> Endpoint<T> {
+        let p0 = self.probe(&ty.0, lambda);
+        let end = self.next_end(&ty.0, &p0, T::from_f64(if upper { 1.0 } else { -1.0 }), &[]);
+        self.end_point(end)
     }
 
     /// [`Self::walk`] in turns with another walk of the same component
