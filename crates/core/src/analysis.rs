@@ -245,19 +245,48 @@ pub fn lazy_reference_accuracy(
     let jet: Construction<Jet<Dd>> = Construction::new(linkage, dec).ok()?;
     let scale = linkage.scale;
     // One refinement per endpoint id: two types meeting at a root share it.
-    let mut by_id: std::collections::HashMap<usize, Option<Dd>> = std::collections::HashMap::new();
+    let mut ends: Vec<(usize, &[bool], Event, f64, bool)> = Vec::new();
+    let mut seen = std::collections::HashSet::new();
+    for iv in &space.intervals {
+        let point = iv.lower.lambda == iv.upper.lambda;
+        for end in [&iv.lower, &iv.upper] {
+            if let Some(&event) = end.events.first()
+                && seen.insert(end.id)
+            {
+                ends.push((end.id, &iv.ty.0, event, end.lambda, point));
+            }
+        }
+    }
+    let refine = |ends: &[(usize, &[bool], Event, f64, bool)]| -> Vec<(usize, Option<Dd>)> {
+        ends.iter()
+            .map(|&(id, bits, event, lambda, point)| (id, refine_end(&jet, bits, event, lambda, point, scale)))
+            .collect()
+    };
+    // Each refinement stands alone: a long chain's are split over two threads.
+    let by_id: std::collections::HashMap<usize, Option<Dd>> =
+        if dec.steps.len() >= crate::tolerance::TWO_THREADS_FROM_STEPS && ends.len() > 1 {
+            let (first, second) = ends.split_at(ends.len() / 2);
+            std::thread::scope(|scope| {
+                let other = scope.spawn(|| refine(second));
+                let mut done = refine(first);
+                done.extend(other.join().unwrap_or_else(|panic| std::panic::resume_unwind(panic)));
+                done
+            })
+        } else {
+            refine(&ends)
+        }
+        .into_iter()
+        .collect();
     let (mut worst, mut of_value): (f64, f64) = (0.0, 0.0);
     let (mut same_structure, mut all_refined) = (true, true);
     let mut refined: Vec<[Option<Dd>; 2]> = Vec::with_capacity(space.intervals.len());
     for iv in &space.intervals {
-        let point = iv.lower.lambda == iv.upper.lambda;
         let mut ends = [None, None];
         for (slot, end) in ends.iter_mut().zip([&iv.lower, &iv.upper]) {
-            let Some(&event) = end.events.first() else {
+            let Some(&x) = by_id.get(&end.id).filter(|_| !end.events.is_empty()) else {
                 all_refined = false;
                 continue;
             };
-            let x = *by_id.entry(end.id).or_insert_with(|| refine_end(&jet, &iv.ty.0, event, end.lambda, point, scale));
             same_structure &= x.is_some();
             *slot = x;
             if let Some(x) = x {

@@ -75,10 +75,11 @@ pub struct LazyOptions {
 
 impl Default for LazyOptions {
     fn default() -> Self {
-        // Below this a second walk costs about what it saves: most components
+        // Below it a second walk costs about what it saves: most components
         // of such scenes close within a few intervals, and the two walks
         // each compute the middle one.
-        LazyOptions { samples: 32, max_intervals: 1 << 16, both_ways_from_steps: 256 }
+        let both_ways_from_steps = tolerance::TWO_THREADS_FROM_STEPS;
+        LazyOptions { samples: 32, max_intervals: 1 << 16, both_ways_from_steps }
     }
 }
 

@@ -67,6 +67,11 @@ pub const LAZY_APPROACH: f64 = 1e-7;
 // Steps are fractions of the drawing's extent (its bounding-box diagonal),
 // so a long chain gets steps as long as its drawing, not as its longest bar.
 
+/// Scenes with at least this many construction steps spread the lazy walk
+/// and its self-check over two threads (see `lazy::LazyOptions`); below,
+/// starting a thread costs about what it saves.
+pub const TWO_THREADS_FROM_STEPS: usize = 256;
+
 /// Default geometric step of `trace`, `svg` and `path` (× the drawing's diagonal).
 pub const DEFAULT_STEP_FRACTION: f64 = 0.01;
 
