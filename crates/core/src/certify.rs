@@ -688,6 +688,12 @@ impl Certifier {
         self.estimated.set(self.estimated.get() + n);
     }
 
+    /// Set the count of [`Self::estimated`] back to `n`: a lazy walk's turn
+    /// walked ahead and undone.
+    pub(crate) fn rewind_estimated(&self, n: usize) {
+        self.estimated.set(n);
+    }
+
     /// How many decisions so far rested on an estimate (see `estimate`) rather than a proof.
     pub fn estimated(&self) -> usize {
         self.estimated.get()

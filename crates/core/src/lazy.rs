@@ -412,14 +412,55 @@ struct Meeting<T> {
     end: Endpoint<T>,
 }
 
-/// One walk's turn, sent to the other ([`Walker::lockstep`]).
+/// Where a step of the flip rule enters: type `next` at `end`, the end the
+/// walk leaves its interval by (its upper end if `leaving_upper`).
+struct Entry<T> {
+    next: RealizationType,
+    end: Endpoint<T>,
+    leaving_upper: bool,
+}
+
+/// One walk's finished turn, sent to the other ([`Walker::turns`]).
 enum Turn<T> {
     /// The start interval's end this walk found first.
     Start(Endpoint<T>),
-    /// The interval it walked this turn.
+    /// The interval it walked this turn (final: it did not meet the other
+    /// walk there).
     Walked(OrientedInterval<T>),
     /// It stopped.
     Done,
+}
+
+/// How many turns a walk of [`Walker::both_ways`] may walk ahead of those
+/// it has finished (what the other walk's pace has not yet decided).
+const LEAD: usize = 4;
+
+/// A turn walked ahead ([`Walker::turns`]): where it entered (`None`: it
+/// stopped before, met the other walk already or came back to its own),
+/// how many of the other's turns it was checked against, the walk's state
+/// at that point, what it did, the interval it walked, and where it came
+/// back to one of its own the entry whose end that one takes once the turn
+/// is finished.
+struct Ahead<T> {
+    entry: Option<Entry<T>>,
+    checked: usize,
+    rewind: Rewind,
+    outcome: Advance<T>,
+    walked: Option<OrientedInterval<T>>,
+    closed: Option<Entry<T>>,
+}
+
+/// A walk's state where a turn entered, restored where it turns out to
+/// meet the other walk: its intervals and notes (their lengths), its counts
+/// (steps realized, roots, Newton evaluations) and its certifier's
+/// estimated decisions. Caches are not restored: they hold the same
+/// numbers whoever computed them.
+#[derive(Default)]
+struct Rewind {
+    intervals: usize,
+    notes: usize,
+    counts: [usize; 3],
+    estimated: usize,
 }
 
 /// The lower walk of [`Walker::both_ways`] when it stopped: its
@@ -717,39 +758,78 @@ impl<'a, T: Real> Walker<'a, T> {
         heading: &mut Heading,
         others: &[OrientedInterval<T>],
     ) -> Advance<T> {
-        let Heading { cur, leaving_upper } = *heading;
+        let entry = match self.enter(intervals, *heading, others.len()) {
+            Ok(entry) => entry,
+            Err(stop) => return stop,
+        };
+        if let Some(j) = self.meets(&entry, intervals) {
+            Self::share(intervals, j, entry);
+            return Advance::Closed(j);
+        }
+        if let Some(index) = self.meets(&entry, others) {
+            return Advance::Met(Meeting { index, upper: entry.leaving_upper, end: entry.end });
+        }
+        self.walk_into(intervals, heading, entry)
+    }
+
+    /// The first part of [`Self::advance`]: the type the flip rule enters
+    /// next and where, or why the walk stops before (no flat step, the
+    /// budget counting `others_walked` intervals of another walk, no
+    /// realizable flip).
+    fn enter(
+        &mut self,
+        intervals: &[OrientedInterval<T>],
+        heading: Heading,
+        others_walked: usize,
+    ) -> Result<Entry<T>, Advance<T>> {
+        let Heading { cur, leaving_upper } = heading;
         let e = if leaving_upper { intervals[cur].upper.clone() } else { intervals[cur].lower.clone() };
         if e.events.is_empty() {
-            return Advance::Stopped;
+            return Err(Advance::Stopped);
         }
-        let walked = intervals.len() + others.len();
+        let walked = intervals.len() + others_walked;
         if walked >= self.options.max_intervals {
             self.notes.push(Note::Unresolved {
                 lambda: e.lambda.to_f64(),
                 step: e.events[0].step,
                 why: crate::cayley_space::Unresolved::WalkBudget { intervals: walked },
             });
-            return Advance::Stopped;
+            return Err(Advance::Stopped);
         }
         // Into the next type on the same side of λ: walk the other way.
         let dir = T::from_f64(if leaving_upper { -1.0 } else { 1.0 });
         let Some(next) = self.flip(&intervals[cur].ty, &e, dir) else {
-            return Advance::Stopped;
+            return Err(Advance::Stopped);
         };
-        let same_end = |iv: &OrientedInterval<T>| {
-            let end = if leaving_upper { &iv.upper } else { &iv.lower };
-            // One root computed twice: same type, side and flat steps.
-            iv.ty == next && end.events == e.events && (end.lambda - e.lambda).abs() <= self.coincide
-        };
-        if let Some(j) = intervals.iter().position(same_end) {
-            // Back at an interval already walked: share the endpoint.
-            let end = if leaving_upper { &mut intervals[j].upper } else { &mut intervals[j].lower };
-            *end = e;
-            return Advance::Closed(j);
-        }
-        if let Some(index) = others.iter().position(same_end) {
-            return Advance::Met(Meeting { index, upper: leaving_upper, end: e });
-        }
+        Ok(Entry { next, end: e, leaving_upper })
+    }
+
+    /// Back at interval `j` already walked: it takes the entry's end (one
+    /// endpoint shared).
+    fn share(intervals: &mut [OrientedInterval<T>], j: usize, entry: Entry<T>) {
+        let end = if entry.leaving_upper { &mut intervals[j].upper } else { &mut intervals[j].lower };
+        *end = entry.end;
+    }
+
+    /// The first of `walked` that `entry` enters at its own end: one root
+    /// computed twice (same type, side and flat steps).
+    fn meets(&self, entry: &Entry<T>, walked: &[OrientedInterval<T>]) -> Option<usize> {
+        let Entry { next, end: e, leaving_upper } = entry;
+        walked.iter().position(|iv| {
+            let end = if *leaving_upper { &iv.upper } else { &iv.lower };
+            iv.ty == *next && end.events == e.events && (end.lambda - e.lambda).abs() <= self.coincide
+        })
+    }
+
+    /// The rest of [`Self::advance`]: the interval of `entry`'s type from its end.
+    fn walk_into(
+        &mut self,
+        intervals: &mut Vec<OrientedInterval<T>>,
+        heading: &mut Heading,
+        entry: Entry<T>,
+    ) -> Advance<T> {
+        let Entry { next, end: e, leaving_upper } = entry;
+        let dir = T::from_f64(if leaving_upper { -1.0 } else { 1.0 });
         let p = self.probe(&next.0, e.lambda);
         if let Some(k) = self.degenerate_beside(&next.0, &p, dir) {
             // A type with a step whose base joints coincide turns that
@@ -776,10 +856,11 @@ impl<'a, T: Real> Walker<'a, T> {
 
     /// [`Self::component`] walked both ways at once on two threads: this
     /// walker from the start's upper end, a second one (with a
-    /// [`Certifier::fork`]) from its lower end, each finding that end first. They take
-    /// turns in lockstep (each walks one interval, then each learns the
-    /// other's), so where they meet, and so every number, is the same on
-    /// every run. A walk stops at an interval the other has walked, as a
+    /// [`Certifier::fork`]) from its lower end, each finding that end first. Their
+    /// turns count as in lockstep (each walks one interval, then each learns
+    /// the other's; [`Self::turns`]), so where they meet, and so every
+    /// number, is the same on every run, though neither waits for the other
+    /// to walk ahead. A walk stops at an interval the other has walked, as a
     /// single walk stops at one of its own; the two lists are then joined
     /// ([`join_walks`]).
     fn both_ways(&mut self, ty: &RealizationType, lambda: T) -> Vec<OrientedInterval<T>> {
@@ -802,7 +883,7 @@ impl<'a, T: Real> Walker<'a, T> {
                 let met = if intervals.is_empty() {
                     None
                 } else {
-                    walker.lockstep(&mut intervals, heading, (&to_upper, &from_upper))
+                    walker.turns(&mut intervals, heading, (&to_upper, &from_upper))
                 };
                 let counts = [walker.steps_realized.get(), walker.roots.get(), walker.newton_evaluations.get()];
                 let estimated = cert.estimated();
@@ -819,7 +900,7 @@ impl<'a, T: Real> Walker<'a, T> {
             if let Some(lower) = lower {
                 intervals.push(OrientedInterval { ty: ty.clone(), lower, upper });
                 let heading = Heading { cur: 0, leaving_upper: true };
-                met = self.lockstep(&mut intervals, heading, (&to_lower, &from_lower));
+                met = self.turns(&mut intervals, heading, (&to_lower, &from_lower));
             }
             drop(to_lower);
             let mut other = lower_walk.join().unwrap_or_else(|panic| std::panic::resume_unwind(panic));
@@ -841,35 +922,129 @@ impl<'a, T: Real> Walker<'a, T> {
     }
 
     /// [`Self::walk`] in turns with another walk of the same component
-    /// (see [`Self::both_ways`]): after each interval this one
-    /// walks, it sends it on `to` and receives the other's turn from `from`.
+    /// (see [`Self::both_ways`]), with the outcome of turns in lockstep:
+    /// turn r meets the other walk at an interval of its turns before r,
+    /// and counts them against the budget. Each turn finished so is sent on
+    /// `to`; the other's come on `from`. A walk runs up to [`LEAD`] turns
+    /// ahead of what it can finish: such a turn is checked against the
+    /// other's earlier turns as they come, and where it meets one the walk
+    /// is rewound to that meeting ([`Rewind`]), so the outcome, and every
+    /// count and note, does not depend on which walk is faster.
     /// The meeting with the other walk, if the walk ends at one.
-    fn lockstep(
+    fn turns(
         &mut self,
         intervals: &mut Vec<OrientedInterval<T>>,
         mut heading: Heading,
         (to, from): (&mpsc::Sender<Turn<T>>, &mpsc::Receiver<Turn<T>>),
     ) -> Option<Meeting<T>> {
+        #[cfg(test)]
+        let upward = heading.leaving_upper;
+        // The other walk's finished intervals (its turn r is `others[r - 1]`), and whether it stopped.
         let (mut others, mut other_done) = (Vec::new(), false);
+        let absorb = |turn: Result<Turn<T>, _>, others: &mut Vec<_>, done: &mut bool| match turn {
+            Ok(Turn::Walked(iv)) if !*done => others.push(iv),
+            _ => *done = true,
+        };
+        // Turns walked ahead, oldest first, and how many are finished.
+        let mut ahead: VecDeque<Ahead<T>> = VecDeque::new();
+        let mut finished = 0;
         loop {
-            let advance = self.advance(intervals, &mut heading, &others);
-            let turn = match advance {
-                Advance::Walked => Turn::Walked(intervals[intervals.len() - 1].clone()),
-                _ => Turn::Done,
-            };
-            let _ = to.send(turn);
-            match advance {
-                Advance::Walked => {}
-                Advance::Met(meeting) => return Some(meeting),
-                Advance::Closed(_) | Advance::Stopped => return None,
-            }
-            if !other_done {
-                match from.recv() {
-                    Ok(Turn::Walked(iv)) => others.push(iv),
-                    _ => other_done = true,
+            // Finish the oldest turn once the other's turns before it are known.
+            while let Some(turn) = ahead.front() {
+                let before = finished; // the other's turns before this one
+                if !other_done && others.len() < before {
+                    break;
+                }
+                let seen = others.len().min(before);
+                if let Some(entry) = &turn.entry
+                    && let Some(i) = self.meets(entry, &others[turn.checked..seen])
+                {
+                    let meeting =
+                        Meeting { index: turn.checked + i, upper: entry.leaving_upper, end: entry.end.clone() };
+                    self.rewind(&turn.rewind, intervals);
+                    let _ = to.send(Turn::Done);
+                    return Some(meeting);
+                }
+                let turn = ahead.pop_front().expect("a front turn");
+                match turn.outcome {
+                    Advance::Walked => {
+                        let _ = to.send(Turn::Walked(turn.walked.expect("a walked turn's interval")));
+                        finished += 1;
+                    }
+                    stop => {
+                        if let (Advance::Closed(j), Some(entry)) = (&stop, turn.closed) {
+                            Self::share(intervals, *j, entry);
+                        }
+                        let _ = to.send(Turn::Done);
+                        return if let Advance::Met(meeting) = stop { Some(meeting) } else { None };
+                    }
                 }
             }
+            let ended = ahead.back().is_some_and(|t| !matches!(t.outcome, Advance::Walked));
+            let round = finished + ahead.len(); // the other's turns before the next
+            // Near the budget, the count of the other's turns must be exact.
+            let exact = other_done || others.len() >= round;
+            let budget_near = intervals.len() + round >= self.options.max_intervals;
+            if !ended && ahead.len() < LEAD && (exact || !budget_near) {
+                #[cfg(test)]
+                tests::pace(upward);
+                let seen = others.len().min(round);
+                let turn = self.turn_ahead(intervals, &mut heading, &others[..seen]);
+                ahead.push_back(turn);
+                while let Ok(turn) = from.try_recv() {
+                    absorb(Ok(turn), &mut others, &mut other_done);
+                }
+            } else {
+                absorb(from.recv().map_err(|_| ()), &mut others, &mut other_done);
+            }
         }
+    }
+
+    /// One turn of [`Self::turns`] walked ahead: [`Self::advance`] against
+    /// the other walk's turns known to come before it, keeping what a later
+    /// meeting needs.
+    fn turn_ahead(
+        &mut self,
+        intervals: &mut Vec<OrientedInterval<T>>,
+        heading: &mut Heading,
+        others: &[OrientedInterval<T>],
+    ) -> Ahead<T> {
+        let stopped =
+            |outcome| Ahead { entry: None, checked: 0, rewind: Rewind::default(), outcome, walked: None, closed: None };
+        let entry = match self.enter(intervals, *heading, others.len()) {
+            Ok(entry) => entry,
+            Err(stop) => return stopped(stop),
+        };
+        if let Some(j) = self.meets(&entry, intervals) {
+            return Ahead { closed: Some(entry), ..stopped(Advance::Closed(j)) };
+        }
+        if let Some(index) = self.meets(&entry, others) {
+            let (upper, end) = (entry.leaving_upper, entry.end);
+            return stopped(Advance::Met(Meeting { index, upper, end }));
+        }
+        let rewind = Rewind {
+            intervals: intervals.len(),
+            notes: self.notes.len(),
+            counts: [self.steps_realized.get(), self.roots.get(), self.newton_evaluations.get()],
+            estimated: self.cert.estimated(),
+        };
+        let kept = Entry { next: entry.next.clone(), end: entry.end.clone(), leaving_upper: entry.leaving_upper };
+        let outcome = self.walk_into(intervals, heading, entry);
+        let walked = matches!(outcome, Advance::Walked).then(|| intervals[intervals.len() - 1].clone());
+        Ahead { entry: Some(kept), checked: others.len(), rewind, outcome, walked, closed: None }
+    }
+
+    /// Back to where a turn walked ahead met the other walk.
+    fn rewind(&mut self, to: &Rewind, intervals: &mut Vec<OrientedInterval<T>>) {
+        #[cfg(test)]
+        tests::REWINDS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        intervals.truncate(to.intervals);
+        self.notes.truncate(to.notes);
+        let [steps, roots, evaluations] = to.counts;
+        self.steps_realized.set(steps);
+        self.roots.set(roots);
+        self.newton_evaluations.set(evaluations);
+        self.cert.rewind_estimated(to.estimated);
     }
 
     /// The step of type `bits` whose base joints coincide just beside the
@@ -1543,6 +1718,86 @@ fn certify<T: Real>(s0: Jet<T>, s1: Jet<T>, length: T) -> Shape {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::sync::atomic::{AtomicU8, AtomicUsize, Ordering};
+
+    /// Which walk of [`Walker::both_ways`] a test slows down (1: the upward
+    /// one, 2: the lower), so that the other runs ahead of it.
+    static SLOW_WALK: AtomicU8 = AtomicU8::new(0);
+    /// Turns walked ahead that met the other walk and were undone.
+    pub(super) static REWINDS: AtomicUsize = AtomicUsize::new(0);
+
+    /// Before each turn of a walk: a pause when the test slows that walk.
+    pub(super) fn pace(upward: bool) {
+        if SLOW_WALK.load(Ordering::Relaxed) == if upward { 1 } else { 2 } {
+            std::thread::sleep(std::time::Duration::from_millis(3));
+        }
+    }
+
+    /// A chain of `steps` four-cycles, each carried by the one before (as
+    /// `caymos generate chain`, which lives in the binary's crate).
+    fn chain(steps: usize) -> crate::scene::Scene {
+        let wobble = |k: usize, s: f64| 0.07 * ((k as f64) * s).sin();
+        let mut joints = vec![("P0".to_string(), [0.0, 0.0]), ("Q0".to_string(), [wobble(0, 1.3), 1.0])];
+        let mut bars = Vec::new();
+        let (mut p, mut q) = ("P0".to_string(), "Q0".to_string());
+        for k in 1..=steps {
+            let x = k as f64;
+            let v = format!("V{k}");
+            joints.push((v.clone(), [x - 0.5 + wobble(k, 2.1), 0.42 + wobble(k, 0.7)]));
+            bars.extend([(p.clone(), v.clone()), (q.clone(), v.clone())]);
+            if k < steps {
+                let (p2, q2) = (format!("P{k}"), format!("Q{k}"));
+                joints.push((p2.clone(), [x + wobble(k, 1.7), wobble(k, 3.1)]));
+                joints.push((q2.clone(), [x + wobble(k, 0.9), 1.0 + wobble(k, 2.3)]));
+                bars.extend([
+                    (p.clone(), p2.clone()),
+                    (v.clone(), p2.clone()),
+                    (q.clone(), q2.clone()),
+                    (v, q2.clone()),
+                ]);
+                (p, q) = (p2, q2);
+            }
+        }
+        let bars: Vec<String> = bars.iter().map(|(a, b)| format!("[\"{a}\", \"{b}\"]")).collect();
+        let joints: Vec<String> = joints.iter().map(|(n, [x, y])| format!("\"{n}\" = [{x:?}, {y:?}]")).collect();
+        let text = format!(
+            "name = \"chain\"\nbase = [\"P0\", \"Q0\"]\nground = [\"P0\", \"V1\"]\nbars = [{}]\n[joints]\n{}\n",
+            bars.join(", "),
+            joints.join("\n")
+        );
+        crate::scene::parse_scene(&text, "chain", "chain").expect("a chain scene")
+    }
+
+    /// The two walks of a long component give the same intervals, notes and
+    /// counts whichever of them is faster, with or without the budget
+    /// stopping them: a walk running ahead and meeting the other is undone
+    /// to where lockstep would have stopped it.
+    #[test]
+    fn both_ways_is_the_same_whichever_walk_is_faster() {
+        let scene = chain(30);
+        let linkage = crate::linkage::Linkage::from_scene(&scene);
+        let dec = crate::decompose::decompose(&linkage, scene.base.map(|b| b.0)).expect("in class").expect("a base");
+        let con = Construction::<f64>::new(&linkage, &dec).expect("a construction");
+        let jet = con.convert::<Jet<f64>>();
+        let drawn = crate::realize::drawn_realization(&linkage, &dec);
+        let rewinds = REWINDS.load(Ordering::Relaxed);
+        for max_intervals in [usize::MAX, 5] {
+            let options = LazyOptions { both_ways_from_steps: 0, max_intervals, ..LazyOptions::default() };
+            let run = |slow: u8| {
+                let cert = Certifier::new(&linkage, &dec).expect("a certifier");
+                SLOW_WALK.store(slow, Ordering::Relaxed);
+                let walked = component_through_counted(&con, &cert, &jet, &drawn.ty, drawn.lambda, options);
+                SLOW_WALK.store(0, Ordering::Relaxed);
+                let (space, counts) = walked.expect("the drawing realizes");
+                (format!("{:?} {:?}", space.intervals, space.notes), counts, cert.estimated())
+            };
+            let even = run(0);
+            assert!(even.1.intervals >= 8 || max_intervals == 5, "a long component: {:?}", even.1);
+            assert_eq!(run(1), even, "the upward walk slowed, budget {max_intervals}");
+            assert_eq!(run(2), even, "the lower walk slowed, budget {max_intervals}");
+        }
+        assert!(REWINDS.load(Ordering::Relaxed) > rewinds, "a walk ran ahead and was undone");
+    }
 
     fn end(lambda: f64, step: usize, id: usize) -> Endpoint<f64> {
         Endpoint { lambda, events: vec![Event { step, kind: Kind::Stretched }], id }
