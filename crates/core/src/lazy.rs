@@ -740,7 +740,7 @@ impl<'a, T: Real> Walker<'a, T> {
     fn walk(&mut self, intervals: &mut Vec<OrientedInterval<T>>, from_upper: bool) -> bool {
         let mut heading = Heading { cur: 0, leaving_upper: from_upper };
         loop {
-            match self.advance(intervals, &mut heading, &[]) {
+            match self.advance(intervals, &mut heading) {
                 Advance::Walked => {}
                 Advance::Closed(j) => return j == 0,
                 Advance::Met(_) | Advance::Stopped => return false,
@@ -750,29 +750,21 @@ impl<'a, T: Real> Walker<'a, T> {
 
     /// One step of the flip rule from where `heading` points: the next
     /// interval walked (pushed to `intervals`), or why the walk stops there.
-    /// `others` are the intervals another walk of the same component has
-    /// walked (from the start's other end, see [`Self::both_ways`]).
-    fn advance(
-        &mut self,
-        intervals: &mut Vec<OrientedInterval<T>>,
-        heading: &mut Heading,
-        others: &[OrientedInterval<T>],
-    ) -> Advance<T> {
-        let entry = match self.enter(intervals, *heading, others.len()) {
-            Ok(entry) => entry,
-            Err(stop) => return stop,
-        };
-        if let Some(j) = self.meets(&entry, intervals) {
-            Self::share(intervals, j, entry);
-            return Advance::Closed(j);
-        }
-        if let Some(index) = self.meets(&entry, others) {
-            return Advance::Met(Meeting { index, upper: entry.leaving_upper, end: entry.end });
-        }
-        self.walk_into(intervals, heading, entry)
+    fn advance(&mut self, intervals: &mut Vec<OrientedInterval<T>>, heading: &mut Heading) -> Advance<T> {
+        let turn = self.turn_ahead(intervals, heading, &[]);
+        Self::finish(turn, intervals)
     }
 
-    /// The first part of [`Self::advance`]: the type the flip rule enters
+    /// What a turn did, once it counts: a return to an interval of the
+    /// walk's own shares that interval's end now.
+    fn finish(turn: Ahead<T>, intervals: &mut [OrientedInterval<T>]) -> Advance<T> {
+        if let (Advance::Closed(j), Some(entry)) = (&turn.outcome, turn.closed) {
+            Self::share(intervals, *j, entry);
+        }
+        turn.outcome
+    }
+
+    /// The first part of a step of the flip rule: the type it enters
     /// next and where, or why the walk stops before (no flat step, the
     /// budget counting `others_walked` intervals of another walk, no
     /// realizable flip).
@@ -821,7 +813,7 @@ impl<'a, T: Real> Walker<'a, T> {
         })
     }
 
-    /// The rest of [`Self::advance`]: the interval of `entry`'s type from its end.
+    /// The rest of a step of the flip rule: the interval of `entry`'s type from its end.
     fn walk_into(
         &mut self,
         intervals: &mut Vec<OrientedInterval<T>>,
@@ -965,20 +957,14 @@ impl<'a, T: Real> Walker<'a, T> {
                     let _ = to.send(Turn::Done);
                     return Some(meeting);
                 }
-                let turn = ahead.pop_front().expect("a front turn");
-                match turn.outcome {
-                    Advance::Walked => {
-                        let _ = to.send(Turn::Walked(turn.walked.expect("a walked turn's interval")));
-                        finished += 1;
-                    }
-                    stop => {
-                        if let (Advance::Closed(j), Some(entry)) = (&stop, turn.closed) {
-                            Self::share(intervals, *j, entry);
-                        }
-                        let _ = to.send(Turn::Done);
-                        return if let Advance::Met(meeting) = stop { Some(meeting) } else { None };
-                    }
+                let mut turn = ahead.pop_front().expect("a front turn");
+                if let Some(walked) = turn.walked.take() {
+                    let _ = to.send(Turn::Walked(walked));
+                    finished += 1;
+                    continue;
                 }
+                let _ = to.send(Turn::Done);
+                return if let Advance::Met(meeting) = Self::finish(turn, intervals) { Some(meeting) } else { None };
             }
             let ended = ahead.back().is_some_and(|t| !matches!(t.outcome, Advance::Walked));
             let round = finished + ahead.len(); // the other's turns before the next
@@ -1000,9 +986,10 @@ impl<'a, T: Real> Walker<'a, T> {
         }
     }
 
-    /// One turn of [`Self::turns`] walked ahead: [`Self::advance`] against
-    /// the other walk's turns known to come before it, keeping what a later
-    /// meeting needs.
+    /// One step of the flip rule, walked ahead of when it counts
+    /// ([`Self::finish`]): against `others`, the other walk's turns known
+    /// to come before it ([`Self::turns`]; none for a single walk), keeping
+    /// what a later meeting needs.
     fn turn_ahead(
         &mut self,
         intervals: &mut Vec<OrientedInterval<T>>,
