@@ -14,6 +14,7 @@ use serde::Serialize;
 
 use crate::analysis::{Analysis, Solved, Timings};
 use crate::cayley_space::{Method, cayley_space};
+use crate::certify::Certifier;
 use crate::invert::Inverter;
 use crate::lazy::{LazyOptions, component_through, component_through_counted};
 use crate::motion::{Stepper, component_segments, realization_at};
@@ -164,10 +165,11 @@ pub fn scaling_row(family: &str, scene: crate::scene::Scene, repeat: usize) -> O
     let dec = dec.ok()?.ok()?;
     let con = Construction::<f64>::new(&linkage, &dec).ok()?;
     let jet = con.convert::<Jet<f64>>();
-    let cert = crate::certify::Certifier::new(&linkage, &dec)?;
+    let cert = Certifier::new(&linkage, &dec)?;
     let drawn = crate::realize::drawn_realization(&linkage, &dec);
-    let walk = || component_through_counted(&con, &cert, &jet, &drawn.ty, drawn.lambda, LazyOptions::default());
-    let (lazy_us, walked) = median_us(repeat, walk);
+    let walk =
+        |cert: Certifier| component_through_counted(&con, &cert, &jet, &drawn.ty, drawn.lambda, LazyOptions::default());
+    let (lazy_us, walked) = median_us_each(repeat, || cert.fork(), walk);
     let (space, counts) = walked.ok()?;
     let checked = (dec.steps.len() <= crate::analysis::LAZY_REFERENCE_MAX_STEPS)
         .then(|| median_us(repeat, || crate::analysis::lazy_reference_accuracy(&linkage, &dec, &mut space.clone())));
@@ -292,7 +294,7 @@ fn full_analysis_by(scene: &crate::scene::Scene, requested: Option<[usize; 2]>, 
     let cx = t.phase("four_cycle", || crate::complexity::four_cycle_test(&dec));
     let built = t.phase("construction", || {
         let con = Construction::<f64>::new(&linkage, &dec).ok()?;
-        let cert = crate::certify::Certifier::shared(linkage.clone(), dec.clone(), con.clone())?;
+        let cert = Certifier::shared(linkage.clone(), dec.clone(), con.clone())?;
         let drawn = crate::realize::drawn_realization(&linkage, &dec);
         Some((con, cert, drawn))
     });
@@ -308,11 +310,20 @@ fn full_analysis_by(scene: &crate::scene::Scene, requested: Option<[usize; 2]>, 
 
 /// Median wall time of `f` in microseconds over `repeat` runs after one warm-up.
 fn median_us<R>(repeat: usize, mut f: impl FnMut() -> R) -> (f64, R) {
-    let mut out = f();
+    median_us_each(repeat, || (), |()| f())
+}
+
+/// [`median_us`] with each run given a fresh value from `setup`, made
+/// untimed: a certifier's fork, whose caches start empty in every run as in
+/// one analysis (a certifier used before answers its earlier questions from
+/// its caches).
+fn median_us_each<S, R>(repeat: usize, mut setup: impl FnMut() -> S, mut f: impl FnMut(S) -> R) -> (f64, R) {
+    let mut out = f(setup());
     let mut times = Vec::with_capacity(repeat);
     for _ in 0..repeat.max(1) {
+        let input = setup();
         let t = Instant::now();
-        out = f();
+        out = f(input);
         times.push(t.elapsed().as_secs_f64() * 1e6);
     }
     (median(times), out)
@@ -324,17 +335,22 @@ fn median(mut times: Vec<f64>) -> f64 {
     times[times.len() / 2]
 }
 
+/// One run of [`interleaved_medians_us`]: an untimed preparation (as in
+/// [`median_us_each`]) that returns the timed work.
+type Run<'a> = Box<dyn FnMut() -> Box<dyn FnOnce() + 'a> + 'a>;
+
 /// Each of `runs`' median wall time in microseconds over `repeat` rounds
 /// after one warm-up round; each round runs every one in turn.
-fn interleaved_medians_us(repeat: usize, runs: &mut [Box<dyn FnMut() + '_>]) -> Vec<f64> {
+fn interleaved_medians_us(repeat: usize, runs: &mut [Run<'_>]) -> Vec<f64> {
     for run in runs.iter_mut() {
-        run();
+        run()();
     }
     let mut times = vec![Vec::with_capacity(repeat); runs.len()];
     for _ in 0..repeat.max(1) {
         for (run, times) in runs.iter_mut().zip(&mut times) {
+            let work = run();
             let t = Instant::now();
-            run();
+            work();
             times.push(t.elapsed().as_secs_f64() * 1e6);
         }
     }
@@ -422,9 +438,11 @@ pub fn bench_scene(a: &Analysis, s: &Solved, repeat: usize) -> (Vec<MethodRow>, 
     let jet = con.convert::<Jet<f64>>();
     if s.lazy {
         // Too many types to enumerate: only the lazy walk, against its ends refined in double-double.
-        let (t, walked) = median_us(repeat, || {
-            component_through(con, &s.certifier, &jet, &s.drawn.ty, s.drawn.lambda, LazyOptions::default())
-        });
+        let (t, walked) = median_us_each(
+            repeat,
+            || s.certifier.fork(),
+            |cert| component_through(con, &cert, &jet, &s.drawn.ty, s.drawn.lambda, LazyOptions::default()),
+        );
         let n = walked.as_ref().map_or(0, |w| w.intervals.len());
         let accuracy =
             walked.ok().and_then(|mut w| crate::analysis::lazy_reference_accuracy(&a.linkage, &s.dec, &mut w));
@@ -467,17 +485,25 @@ pub fn bench_scene(a: &Analysis, s: &Solved, repeat: usize) -> (Vec<MethodRow>, 
     };
     // The methods take turns within each repetition, so that every median
     // (and the ratio between two) sees the same machine load.
-    let space = |method: Method| cayley_space(con, &s.certifier, &jet, &s.dec, &s.complexity, method);
-    let mut runs: Vec<Box<dyn FnMut() + '_>> =
-        methods.iter().map(|&method| Box::new(move || drop(black_box(space(method)))) as Box<dyn FnMut()>).collect();
-    runs.push(Box::new(|| drop(black_box(classic_space(con, s)))));
+    // Each run of a method asks a fresh fork of the certifier (see `median_us_each`).
+    let space = |cert: &Certifier, method: Method| cayley_space(con, cert, &jet, &s.dec, &s.complexity, method);
+    let mut runs: Vec<Run> = methods
+        .iter()
+        .map(|&method| -> Run {
+            Box::new(move || {
+                let cert = s.certifier.fork();
+                Box::new(move || drop(black_box(space(&cert, method))))
+            })
+        })
+        .collect();
+    runs.push(Box::new(|| Box::new(|| drop(black_box(classic_space(con, s))))));
     let times = interleaved_medians_us(repeat, &mut runs);
     for (&method, &t) in methods.iter().zip(&times) {
         let label = match method {
             Method::Exact => BenchMethod::Exact,
             Method::Numeric { samples, tol } => BenchMethod::Numeric { samples, tol },
         };
-        rows.push(row(label, t, &spans(&space(method))));
+        rows.push(row(label, t, &spans(&space(&s.certifier.fork(), method))));
     }
     if let Some(got) = classic_space(con, s) {
         rows.push(row(
@@ -498,9 +524,11 @@ pub fn bench_scene(a: &Analysis, s: &Solved, repeat: usize) -> (Vec<MethodRow>, 
         let overlaps = |(t, a, b): &Span, (u, c, d): &Span| t == u && a <= d && c <= b;
         let reference_component: Vec<Span> =
             reference.iter().filter(|r| component.iter().any(|c| overlaps(r, c))).cloned().collect();
-        let (t, walked) = median_us(repeat, || {
-            component_through(con, &s.certifier, &jet, &s.drawn.ty, s.drawn.lambda, LazyOptions::default())
-        });
+        let (t, walked) = median_us_each(
+            repeat,
+            || s.certifier.fork(),
+            |cert| component_through(con, &cert, &jet, &s.drawn.ty, s.drawn.lambda, LazyOptions::default()),
+        );
         if let Ok(walked) = walked {
             let got = spans(&walked);
             let (max_endpoint_error, missed, spurious) = compare(&got, &reference_component, scale);
