@@ -390,3 +390,33 @@ fn a_lazy_start_a_rounding_beyond_the_base_range_walks_the_one_component() {
         }
     }
 }
+
+/// Every end of the 1000-step chain's drawn component has one flat step, as
+/// a generic chain's ends must. At an end deep in the chain, the flat step's
+/// f64 slack there read beyond the feasibility tolerance (1e-10 of the
+/// scale) one way: placing it flat failed, every later step had no f64
+/// value, and each was taken for flat too (one end listed 459 "coincident"
+/// steps, another 4; the walk still closed). Two fixes, each enough here: a
+/// step placed flat is placed whatever its slack, and a step without an f64
+/// value is estimated from its double-double value alone, not taken for
+/// flat. Only this long a chain showed it (none of 150–900 steps did).
+#[test]
+fn every_end_of_a_long_chain_has_one_flat_step() {
+    let scene = chain(1000);
+    let linkage = caymos::linkage::Linkage::from_scene(&scene);
+    let dec = caymos::decompose::decompose(&linkage, scene.base.map(|b| b.0)).unwrap().unwrap();
+    let con = caymos::realize::Construction::<f64>::new(&linkage, &dec).unwrap();
+    let cert = caymos::certify::Certifier::new(&linkage, &dec).unwrap();
+    let drawn = caymos::realize::drawn_realization(&linkage, &dec);
+    let jet = con.convert::<Jet<f64>>();
+    let space = component_through(&con, &cert, &jet, &drawn.ty, drawn.lambda, LazyOptions::default()).unwrap();
+    assert_eq!(space.intervals.len(), 32);
+    for iv in &space.intervals {
+        for end in [&iv.lower, &iv.upper] {
+            assert_eq!(end.events.len(), 1, "at λ = {}: {:?}", end.lambda, &end.events[..end.events.len().min(4)]);
+        }
+    }
+    let c = components(&space);
+    assert_eq!(c.list.len(), 1);
+    assert!(c.list[0].closed);
+}

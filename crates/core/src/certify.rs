@@ -670,17 +670,30 @@ impl Certifier {
     /// a deep construction far faster than the real error, so past them the
     /// double-double value decides when it exceeds its error estimated as
     /// the f64 error (f64 − double-double) scaled to double-double precision
-    /// with a margin of 2^10; otherwise the value is taken as zero. Counted
-    /// in [`Self::estimated`].
+    /// with a margin of 2^10 ([`Self::estimated_error`]); otherwise the
+    /// value is taken as zero. Counted in [`Self::estimated`].
+    ///
+    /// Past a step f64 failed to close by more than its tolerance
+    /// ([`tolerance::FEASIBLE`]) while double-double closes it, f64 has no
+    /// value: its error there is at least that tolerance, and is taken as
+    /// that (the step is not taken for flat for want of an f64 value).
     fn estimate(&self, f: &Value, d: &Value) -> Sign {
-        let (Some(x), Some(y)) = (f.midpoint, d.midpoint) else {
-            return if f.midpoint.is_none() && d.midpoint.is_none() { Sign::Undefined } else { Sign::Zero };
+        let Some(y) = d.midpoint else {
+            return if f.midpoint.is_none() { Sign::Undefined } else { Sign::Zero };
         };
         self.estimated.set(self.estimated.get() + 1);
-        let error = (x - y).abs() * (Dd::UNIT_ROUNDOFF / f64::UNIT_ROUNDOFF) * tolerance::ESTIMATE_MARGIN
-            + tolerance::ESTIMATE_FLOOR_ULPS * Dd::UNIT_ROUNDOFF * self.built.f64_balls.scale;
+        let scale = self.built.f64_balls.scale;
+        let error = self.estimated_error(f.midpoint.map_or(tolerance::FEASIBLE * scale, |x| (x - y).abs()));
         if y.abs() > error { if y > 0.0 { Sign::Positive } else { Sign::Negative } } else { Sign::Zero }
     }
+
+    /// The error [`Self::estimate`] gives a double-double value whose f64
+    /// value is `f64_error` off it.
+    fn estimated_error(&self, f64_error: f64) -> f64 {
+        f64_error * (Dd::UNIT_ROUNDOFF / f64::UNIT_ROUNDOFF) * tolerance::ESTIMATE_MARGIN
+            + tolerance::ESTIMATE_FLOOR_ULPS * Dd::UNIT_ROUNDOFF * self.built.f64_balls.scale
+    }
+
 
     /// Count `n` decisions again that rested on an estimate: the sweep's
     /// refinements repeated for another type (each type's decision counts).

@@ -348,7 +348,7 @@ pub struct Triangle<T> {
     pub plus: bool,
     /// Slack down to `-tol` counts as flat.
     pub tol: f64,
-    /// Placed exactly flat.
+    /// Placed exactly flat, whatever its slack ([`flat_tolerance`]).
     pub flat: bool,
 }
 
@@ -387,7 +387,7 @@ impl<T: Real> Apex<T> {
 /// [`apex_flat`]'s numbers, before they are combined.
 fn apex_parts<T: Real>(t: &Triangle<T>) -> Result<Apex<T>, Option<f64>> {
     let Triangle { e, d, sum_diff: [sum, diff], plus, tol, flat, .. } = *t;
-    let [stretch, fold, gap] = closing(d, [sum, diff], tol)?;
+    let [stretch, fold, gap] = closing(d, [sum, diff], flat_tolerance(flat, tol))?;
     let zero = T::zero();
     let clamped = stretch < zero || fold < zero;
     // h = d·√(dimensionless product): no product of lengths, so no overflow
@@ -479,6 +479,16 @@ fn closing<T: Real>(d: T, [sum, diff]: [T; 2], tol: f64) -> Result<[T; 3], Optio
         return Err(Some(s.to_f64()));
     }
     Ok([stretch, fold, gap])
+}
+
+/// The slack tolerance of a step: `tol`, or none for a step placed flat.
+/// A step is placed flat at an end where it is flat (the caller's event):
+/// λ is then the end's value in the arithmetic at hand, and on a deep
+/// construction the step's slack there can read below any tolerance one
+/// way (a 1000-step chain's, in f64, beyond 1e-10 of the scale) without
+/// the step failing to close at the end itself.
+fn flat_tolerance(flat: bool, tol: f64) -> f64 {
+    if flat { f64::INFINITY } else { tol }
 }
 
 /// Base lengths whose reciprocal (and its double-double low part) stays a
@@ -949,8 +959,9 @@ impl<T: Real> Construction<T> {
 
     /// Step `k` on positions where the steps before it are placed: its base
     /// distance d_k, and its vertex and members placed in `pos` (`plus` its
-    /// orientation, `flat` placed exactly flat, slack down to `-tol` clamped
-    /// to flat), or why it cannot be (then `pos` is unchanged).
+    /// orientation, `flat` placed exactly flat whatever its slack, other
+    /// slack down to `-tol` clamped to flat), or why it cannot be (then
+    /// `pos` is unchanged).
     ///
     /// Only the joints some step up to `reach` reads (as its u or w) are
     /// placed: a realization that measures base distances up to step `reach`
@@ -974,7 +985,7 @@ impl<T: Real> Construction<T> {
             None => Unrealizable::Degenerate { step: k },
         };
         if s.first_reads.apex > reach {
-            return (dk, closing(dk, s.sum_diff, tol).map(|_| ()).map_err(why));
+            return (dk, closing(dk, s.sum_diff, flat_tolerance(flat, tol)).map(|_| ()).map_err(why));
         }
         let v = match T::apex(Triangle { pu: pos[s.u], e, d: dk, sum_diff: s.sum_diff, plus, tol, flat }) {
             Ok(v) => v,
@@ -1089,6 +1100,33 @@ pub fn bar_residual(linkage: &Linkage, pos: &[Point2<f64>]) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A triangle placed flat at its end is placed whatever its slack: at a
+    /// λ where that slack reads beyond the feasibility tolerance, the
+    /// triangle fails to close unless it is the one placed flat, which goes
+    /// on with height zero (in f64, balls, jets and double-double alike).
+    #[test]
+    fn a_step_placed_flat_closes_whatever_its_slack() {
+        fn check<T: Real>(scale: f64) {
+            let tol = tolerance::FEASIBLE * scale;
+            let (r1, r2) = (T::from_f64(3.0 * scale), T::from_f64(4.0 * scale));
+            let pu = [T::zero(), T::zero()];
+            // Stretched beyond its slack tolerance: r1 + r2 = 7, the base 7 + 3·tol.
+            let d = T::from_f64(7.0 * scale + 3.0 * tol);
+            let e = [d, T::zero()];
+            let triangle = |flat| Triangle { pu, e, d, sum_diff: sum_diff(r1, r2), plus: true, tol, flat };
+            assert!(T::apex(triangle(false)).is_err(), "beyond the tolerance, scale {scale}");
+            let v = T::apex(triangle(true)).expect("placed flat");
+            assert_eq!(v[1].to_f64(), 0.0, "on the base line, scale {scale}");
+            assert!((v[0].to_f64() - 3.0 * scale).abs() <= 1e-6 * scale, "r1 along the base, scale {scale}");
+        }
+        for scale in [1e-150, 1.0, 1e150] {
+            check::<f64>(scale);
+            check::<crate::real::Ball<f64>>(scale);
+            check::<Jet<f64>>(scale);
+            check::<crate::real::Dd>(scale);
+        }
+    }
 
     /// The jet apex's shortcut (derivatives through d alone) against the
     /// generic formula carried through jet arithmetic step by step: the same
