@@ -244,6 +244,21 @@ impl<T: Real + PlaceBits> Kept<T> {
     }
 }
 
+/// Tests turn [`Certifier::estimates_beside_end`] off, to compare its
+/// signs with those at the refined root; and count its uses.
+#[cfg(test)]
+pub(crate) static REFINE_ALWAYS: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+#[cfg(test)]
+pub(crate) static BESIDE_USED: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+
+fn beside_allowed() -> bool {
+    #[cfg(test)]
+    if REFINE_ALWAYS.load(std::sync::atomic::Ordering::Relaxed) {
+        return false;
+    }
+    true
+}
+
 /// An end's λ in double-double depends on its f64 λ, its first flat event
 /// and the type bits before that step.
 type RefineKey = ([u64; 2], Event, u128);
@@ -635,12 +650,23 @@ impl Certifier {
         if fast.iter().all(|v| v.proven.is_some()) {
             return fast.into_iter().map(|v| v.proven.expect("all proven")).collect();
         }
-        let refined = self.refine_dd(bits, at, lambda);
         // Double-double balls are about 2^-53 of the f64 ones wide: skip them
         // where even that would not exclude zero.
         let shrink = Dd::UNIT_ROUNDOFF / f64::UNIT_ROUNDOFF * tolerance::DD_BALL_SHRINK_MARGIN;
         let hopeless = |v: &Value| v.radius.zip(v.midpoint).is_some_and(|(r, m)| r * shrink > m.abs());
         let balls = !fast.iter().filter(|v| v.proven.is_none()).all(hopeless);
+        // Where no ball can prove an answer, every open question is estimated.
+        if (!balls || self.dd_balls_overflow_at(bits, at))
+            && beside_allowed()
+            && let Some(mut beside) =
+                self.estimates_beside_end(prefixes.as_deref_mut().map(|p| &mut p.dd), bits, at, questions, &fast)
+        {
+            return fast
+                .iter()
+                .map(|f| f.proven.unwrap_or_else(|| beside.next().expect("one per open question")))
+                .collect();
+        }
+        let refined = self.refine_dd(bits, at, lambda);
         // A sketch whose shapes close in f64 but not in double-double (a
         // triangle at the feasibility tolerance): nothing more to prove with.
         let (Some(dd_balls), Some(dd)) = (self.dd_balls(), self.dd_plain()) else {
@@ -694,6 +720,67 @@ impl Certifier {
             + tolerance::ESTIMATE_FLOOR_ULPS * Dd::UNIT_ROUNDOFF * self.built.f64_balls.scale
     }
 
+    /// [`Self::estimate`]'s signs for the `questions` f64 left open at an
+    /// end, from one double-double realization at the f64 end λ itself
+    /// rather than at the end's double-double root ([`Self::refine_dd`]):
+    /// that root is about s = |slack / slope| of the flat step away, which
+    /// moves each value by about its f64 slope times s. Where every value
+    /// clears twice that move plus its estimated error (so widened), each
+    /// sign is the one the value at the root gives; otherwise `None`, and
+    /// the caller refines the root. On a deep construction, where balls
+    /// prove nothing and every question is estimated, this saves Newton's
+    /// realizations. The flat steps are placed flat, so every value is a
+    /// smooth function of λ there; a slope without a finite value (another
+    /// step about flat) gives `None`. Counted as [`Self::estimate`] counts.
+    fn estimates_beside_end(
+        &self,
+        kept: Option<&mut Kept<Dd>>,
+        bits: &[bool],
+        at: At,
+        questions: &[(usize, Kind)],
+        fast: &[Value],
+    ) -> Option<std::vec::IntoIter<Sign>> {
+        let &event = at.events.first()?;
+        let k = event.step;
+        let dd = self.dd_plain()?;
+        if dd.plain.on_base(k) {
+            return None;
+        }
+        let open: Vec<(usize, Kind)> =
+            questions.iter().zip(fast).filter(|(_, f)| f.proven.is_none()).map(|(&q, _)| q).collect();
+        let upto = open.iter().map(|&(j, _)| j).max().unwrap_or(0).max(k);
+        let flat: Vec<usize> = at.events.iter().map(|e| e.step).filter(|&s| s < upto).collect();
+        let slopes = dd.f64_slopes.base_distances_flat(Slope::variable(at.lambda), bits, upto, &flat);
+        let values = distances_at(kept, &dd.plain, Dd::new(at.lambda), bits, upto, (flat_mask(at.events), &flat));
+        let slack = |j: usize, kind: Kind| {
+            let (s, f) = (&dd.plain.steps[j], &dd.f64_slopes.steps[j]);
+            Some((
+                kind.slack_value(s.r1, s.r2, *values.get(j)?).to_f64(),
+                kind.slack_value(f.r1, f.r2, *slopes.get(j)?).d,
+            ))
+        };
+        let (residual, slope) = slack(k, event.kind)?;
+        let off = (residual / slope).abs();
+        if !off.is_finite() {
+            return None;
+        }
+        let mut signs = Vec::with_capacity(open.len());
+        for (&(j, kind), f) in open.iter().zip(fast.iter().filter(|f| f.proven.is_none())) {
+            let x = f.midpoint?;
+            let (y, slope) = slack(j, kind)?;
+            let moved = 2.0 * slope.abs() * off;
+            let error = self.estimated_error((x - y).abs() + moved);
+            // (A NaN anywhere clears nothing.)
+            if (y.abs() - moved).partial_cmp(&error) != Some(std::cmp::Ordering::Greater) {
+                return None;
+            }
+            signs.push(if y > 0.0 { Sign::Positive } else { Sign::Negative });
+        }
+        self.estimated.set(self.estimated.get() + signs.len());
+        #[cfg(test)]
+        BESIDE_USED.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        Some(signs.into_iter())
+    }
 
     /// Count `n` decisions again that rested on an estimate: the sweep's
     /// refinements repeated for another type (each type's decision counts).
@@ -829,18 +916,9 @@ impl Certifier {
         event: Event,
         lambda: Dd,
     ) -> Option<Ball<T>> {
-        let s = &con.steps[event.step];
         // One block of positions for every realization of the search.
         let pos = RefCell::new(Vec::new());
-        // A ball the flat step depends on that overflowed proves nothing
-        // downstream: the realization stops there.
-        let ancestors = con.ancestors(event.step);
-        let overflowed = |j: usize, d: &Ball<T>| ancestors[j] && !d.r.is_finite();
-        let slack_ball = |x: T| -> Option<Ball<T>> {
-            let mut pos = pos.borrow_mut();
-            let d = con.prefix_distance_unless(&mut pos, Ball::exact(x), bits, event.step, overflowed).ok()??;
-            Some(event.kind.slack_value(s.r1, s.r2, d))
-        };
+        let slack_ball = |x: T| Self::flat_slack_ball(con, &mut pos.borrow_mut(), bits, event, x);
         let slack = |x: T| slack_ball(x)?.sign();
         let centre = T::from_dd(lambda);
         let scale = con.scale;
@@ -864,6 +942,33 @@ impl Certifier {
             delta *= tolerance::END_BRACKET_GROWTH;
         }
         None
+    }
+
+    /// The ball of the slack of `event`'s step at exactly `x`, or `None`
+    /// where its prefix fails or a ball it depends on overflowed (that
+    /// proves nothing downstream: the realization stops there).
+    fn flat_slack_ball<T: Real>(
+        con: &Construction<Ball<T>>,
+        pos: &mut Vec<P2<Ball<T>>>,
+        bits: &[bool],
+        event: Event,
+        x: T,
+    ) -> Option<Ball<T>> {
+        let s = &con.steps[event.step];
+        let ancestors = con.ancestors(event.step);
+        let overflowed = |j: usize, d: &Ball<T>| ancestors[j] && !d.r.is_finite();
+        let d = con.prefix_distance_unless(pos, Ball::exact(x), bits, event.step, overflowed).ok()??;
+        Some(event.kind.slack_value(s.r1, s.r2, d))
+    }
+
+    /// Whether the double-double balls cannot bracket the end at `at`: its
+    /// flat step's ball at the f64 end λ overflows (or its prefix fails),
+    /// as it then does at any λ about as near to the end (see
+    /// [`Self::search_bracket`], which gives up there).
+    fn dd_balls_overflow_at(&self, bits: &[bool], at: At) -> bool {
+        let (Some(&event), Some(con)) = (at.events.first(), self.dd_balls()) else { return false };
+        let ball = Self::flat_slack_ball(con, &mut Vec::new(), bits, event, Dd::new(at.lambda));
+        ball.is_none_or(|b| !b.r.is_finite())
     }
 
     /// The end's λ located in double-double: Newton on the flat step's

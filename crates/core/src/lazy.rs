@@ -1755,6 +1755,47 @@ mod tests {
         crate::scene::parse_scene(&text, "chain", "chain").expect("a chain scene")
     }
 
+    /// At every end of a long chain's component, the estimates read at the
+    /// f64 end itself ([`Certifier::estimates_beside_end`], no Newton in
+    /// double-double) give every step the sign, and count the estimates,
+    /// that the values at the refined root give; and they are used there.
+    #[test]
+    fn estimates_beside_an_end_are_the_refined_roots() {
+        use crate::certify::{At, BESIDE_USED, REFINE_ALWAYS};
+        let scene = chain(300);
+        let linkage = crate::linkage::Linkage::from_scene(&scene);
+        let dec = crate::decompose::decompose(&linkage, scene.base.map(|b| b.0)).expect("in class").expect("a base");
+        let con = Construction::<f64>::new(&linkage, &dec).expect("a construction");
+        let jet = con.convert::<Jet<f64>>();
+        let drawn = crate::realize::drawn_realization(&linkage, &dec);
+        let cert = Certifier::new(&linkage, &dec).expect("a certifier");
+        let options = LazyOptions { both_ways_from_steps: usize::MAX, ..LazyOptions::default() };
+        let space = component_through(&con, &cert, &jet, &drawn.ty, drawn.lambda, options).expect("realizable");
+        let used = BESIDE_USED.load(Ordering::Relaxed);
+        let mut ends = 0;
+        for iv in &space.intervals {
+            for end in [&iv.lower, &iv.upper].into_iter().filter(|e| !e.events.is_empty()) {
+                let flat = end.events[0];
+                let questions: Vec<(usize, Kind)> = (0..con.steps.len())
+                    .filter(|&k| k != flat.step)
+                    .flat_map(|k| cert.kinds(k).iter().map(move |&kind| (k, kind)))
+                    .collect();
+                let at = At { lambda: end.lambda, events: &end.events[..1] };
+                let ask = |refine: bool| {
+                    let fresh = cert.fork();
+                    REFINE_ALWAYS.store(refine, Ordering::Relaxed);
+                    let signs = fresh.slack_signs(&iv.ty.0, at, &questions);
+                    REFINE_ALWAYS.store(false, Ordering::Relaxed);
+                    (signs, fresh.estimated())
+                };
+                assert_eq!(ask(false), ask(true), "at λ = {}, step {} flat", end.lambda, flat.step);
+                ends += 1;
+            }
+        }
+        assert!(ends >= 8, "{ends} ends");
+        assert!(BESIDE_USED.load(Ordering::Relaxed) > used, "the estimates beside an end were used");
+    }
+
     /// The two walks of a long component give the same intervals, notes and
     /// counts whichever of them is faster, with or without the budget
     /// stopping them: a walk running ahead and meeting the other is undone
