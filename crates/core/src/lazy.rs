@@ -1755,6 +1755,24 @@ mod tests {
         crate::scene::parse_scene(&text, "chain", "chain").expect("a chain scene")
     }
 
+    /// What a walk of a scene starts from.
+    struct Built {
+        linkage: crate::linkage::Linkage,
+        dec: crate::decompose::Decomposition,
+        con: Construction<f64>,
+        jet: Construction<Jet<f64>>,
+        drawn: crate::realize::Drawn,
+    }
+
+    fn built(scene: crate::scene::Scene) -> Built {
+        let linkage = crate::linkage::Linkage::from_scene(&scene);
+        let dec = crate::decompose::decompose(&linkage, scene.base.map(|b| b.0)).expect("in class").expect("a base");
+        let con = Construction::<f64>::new(&linkage, &dec).expect("a construction");
+        let jet = con.convert::<Jet<f64>>();
+        let drawn = crate::realize::drawn_realization(&linkage, &dec);
+        Built { linkage, dec, con, jet, drawn }
+    }
+
     /// At every end of a long chain's component, the estimates read at the
     /// f64 end itself ([`Certifier::estimates_beside_end`], no Newton in
     /// double-double) give every step the sign, and count the estimates,
@@ -1762,12 +1780,7 @@ mod tests {
     #[test]
     fn estimates_beside_an_end_are_the_refined_roots() {
         use crate::certify::{At, BESIDE_USED, REFINE_ALWAYS};
-        let scene = chain(300);
-        let linkage = crate::linkage::Linkage::from_scene(&scene);
-        let dec = crate::decompose::decompose(&linkage, scene.base.map(|b| b.0)).expect("in class").expect("a base");
-        let con = Construction::<f64>::new(&linkage, &dec).expect("a construction");
-        let jet = con.convert::<Jet<f64>>();
-        let drawn = crate::realize::drawn_realization(&linkage, &dec);
+        let Built { linkage, dec, con, jet, drawn } = built(chain(300));
         let cert = Certifier::new(&linkage, &dec).expect("a certifier");
         let options = LazyOptions { both_ways_from_steps: usize::MAX, ..LazyOptions::default() };
         let space = component_through(&con, &cert, &jet, &drawn.ty, drawn.lambda, options).expect("realizable");
@@ -1802,12 +1815,7 @@ mod tests {
     /// to where lockstep would have stopped it.
     #[test]
     fn both_ways_is_the_same_whichever_walk_is_faster() {
-        let scene = chain(30);
-        let linkage = crate::linkage::Linkage::from_scene(&scene);
-        let dec = crate::decompose::decompose(&linkage, scene.base.map(|b| b.0)).expect("in class").expect("a base");
-        let con = Construction::<f64>::new(&linkage, &dec).expect("a construction");
-        let jet = con.convert::<Jet<f64>>();
-        let drawn = crate::realize::drawn_realization(&linkage, &dec);
+        let Built { linkage, dec, con, jet, drawn } = built(chain(30));
         let rewinds = REWINDS.load(Ordering::Relaxed);
         for max_intervals in [usize::MAX, 5] {
             let options = LazyOptions { both_ways_from_steps: 0, max_intervals, ..LazyOptions::default() };
