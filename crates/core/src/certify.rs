@@ -244,16 +244,17 @@ impl<T: Real + PlaceBits> Kept<T> {
     }
 }
 
-/// Tests turn [`Certifier::estimates_beside_end`] off, to compare its
-/// signs with those at the refined root; and count its uses.
+// A test turns [`Certifier::estimates_beside_end`] off in its thread, to
+// compare its signs with those at the refined root, and counts its uses there.
 #[cfg(test)]
-pub(crate) static REFINE_ALWAYS: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
-#[cfg(test)]
-pub(crate) static BESIDE_USED: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+thread_local! {
+    pub(crate) static REFINE_ALWAYS: Cell<bool> = const { Cell::new(false) };
+    pub(crate) static BESIDE_USED: Cell<usize> = const { Cell::new(0) };
+}
 
 fn beside_allowed() -> bool {
     #[cfg(test)]
-    if REFINE_ALWAYS.load(std::sync::atomic::Ordering::Relaxed) {
+    if REFINE_ALWAYS.get() {
         return false;
     }
     true
@@ -729,9 +730,11 @@ impl Certifier {
     /// sign is the one the value at the root gives; otherwise `None`, and
     /// the caller refines the root. On a deep construction, where balls
     /// prove nothing and every question is estimated, this saves Newton's
-    /// realizations. The flat steps are placed flat, so every value is a
-    /// smooth function of λ there; a slope without a finite value (another
-    /// step about flat) gives `None`. Counted as [`Self::estimate`] counts.
+    /// realizations. The flat steps are placed flat, and every other step
+    /// on the way must keep its slacks above twice their move (none about
+    /// flat, none failing at the root), so every value is a smooth function
+    /// of λ between here and the root; a missing or non-finite value or
+    /// slope gives `None`. Counted as [`Self::estimate`] counts.
     fn estimates_beside_end(
         &self,
         kept: Option<&mut Kept<Dd>>,
@@ -743,7 +746,7 @@ impl Certifier {
         let &event = at.events.first()?;
         let k = event.step;
         let dd = self.dd_plain()?;
-        if dd.plain.on_base(k) {
+        if dd.plain.on_base(k) || k >= bits.len() {
             return None;
         }
         let open: Vec<(usize, Kind)> =
@@ -764,6 +767,17 @@ impl Certifier {
         if !off.is_finite() {
             return None;
         }
+        // Every other step placed on the way keeps both slacks above twice
+        // their move: none is about flat (where values go as square roots,
+        // not linearly), and none that closes here fails at the root.
+        let clear = |i: usize| {
+            [Kind::Stretched, Kind::Folded]
+                .iter()
+                .all(|&kind| slack(i, kind).is_some_and(|(y, slope)| y - 2.0 * slope.abs() * off > 0.0))
+        };
+        if !(0..upto).filter(|i| !flat.contains(i)).all(clear) {
+            return None;
+        }
         let mut signs = Vec::with_capacity(open.len());
         for (&(j, kind), f) in open.iter().zip(fast.iter().filter(|f| f.proven.is_none())) {
             let x = f.midpoint?;
@@ -778,7 +792,7 @@ impl Certifier {
         }
         self.estimated.set(self.estimated.get() + signs.len());
         #[cfg(test)]
-        BESIDE_USED.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        BESIDE_USED.set(BESIDE_USED.get() + 1);
         Some(signs.into_iter())
     }
 
