@@ -14,7 +14,7 @@ use caymos::cayley_space::{Method, cayley_space};
 use caymos::lazy::{LazyOptions, component_through};
 use caymos::motion::{Stepper, component_segments, components};
 use caymos::real::Jet;
-use criterion::{Criterion, criterion_group, criterion_main};
+use criterion::{BatchSize, Criterion, criterion_group, criterion_main};
 
 /// The binary's allocator (see Cargo.toml), so these figures are `caymos bench`'s.
 #[global_allocator]
@@ -49,14 +49,23 @@ fn hot_paths(c: &mut Criterion) {
     c.bench_function("realize one Jansen realization", |b| {
         b.iter(|| con.realize(black_box(s.drawn.lambda), black_box(&s.drawn.ty)))
     });
+    // Each run asks a fresh fork of the certifier (made untimed): its caches
+    // start empty, as in one analysis.
+    let fresh = || s.certifier.fork();
     c.bench_function("Jansen full Cayley space (exact)", |b| {
-        b.iter(|| cayley_space(con, &s.certifier, &jet, &s.dec, &s.complexity, black_box(Method::Exact)))
+        b.iter_batched(
+            fresh,
+            |cert| cayley_space(con, &cert, &jet, &s.dec, &s.complexity, black_box(Method::Exact)),
+            BatchSize::SmallInput,
+        )
     });
     c.bench_function("Jansen components from the Cayley space", |b| b.iter(|| components(black_box(&s.space))));
     c.bench_function("Jansen lazy walk of the drawn component", |b| {
-        b.iter(|| {
-            component_through(con, &s.certifier, &jet, &s.drawn.ty, black_box(s.drawn.lambda), LazyOptions::default())
-        })
+        b.iter_batched(
+            fresh,
+            |cert| component_through(con, &cert, &jet, &s.drawn.ty, black_box(s.drawn.lambda), LazyOptions::default()),
+            BatchSize::SmallInput,
+        )
     });
     let segments = component_segments(&s.space, &s.components.list[k]);
     let step = a.linkage.scale / 100.0;
@@ -74,16 +83,20 @@ fn lazy_walk(c: &mut Criterion, steps: usize) {
     let cs = ca.outcome.expect("in class");
     let cjet = cs.construction.convert::<Jet<f64>>();
     c.bench_function(&format!("{steps}-step chain lazy walk of the drawn component"), |b| {
-        b.iter(|| {
-            component_through(
-                &cs.construction,
-                &cs.certifier,
-                &cjet,
-                &cs.drawn.ty,
-                black_box(cs.drawn.lambda),
-                LazyOptions::default(),
-            )
-        })
+        b.iter_batched(
+            || cs.certifier.fork(),
+            |cert| {
+                component_through(
+                    &cs.construction,
+                    &cert,
+                    &cjet,
+                    &cs.drawn.ty,
+                    black_box(cs.drawn.lambda),
+                    LazyOptions::default(),
+                )
+            },
+            BatchSize::SmallInput,
+        )
     });
 }
 
@@ -95,7 +108,11 @@ fn exact_vs_classic(c: &mut Criterion) {
         let con = &s.construction;
         let jet = con.convert::<Jet<f64>>();
         c.bench_function(&format!("{} Cayley space exact", b.name), |bch| {
-            bch.iter(|| cayley_space(con, &s.certifier, &jet, &s.dec, &s.complexity, black_box(Method::Exact)))
+            bch.iter_batched(
+                || s.certifier.fork(),
+                |cert| cayley_space(con, &cert, &jet, &s.dec, &s.complexity, black_box(Method::Exact)),
+                BatchSize::SmallInput,
+            )
         });
         c.bench_function(&format!("{} Cayley space classic", b.name), |bch| {
             bch.iter(|| caymos::bench::classic_space(black_box(con), &s))
