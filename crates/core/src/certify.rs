@@ -656,11 +656,14 @@ impl Certifier {
         let shrink = Dd::UNIT_ROUNDOFF / f64::UNIT_ROUNDOFF * tolerance::DD_BALL_SHRINK_MARGIN;
         let hopeless = |v: &Value| v.radius.zip(v.midpoint).is_some_and(|(r, m)| r * shrink > m.abs());
         let balls = !fast.iter().filter(|v| v.proven.is_none()).all(hopeless);
+        // Only the questions f64 left open, with their f64 values.
+        let (open, open_fast): (Vec<(usize, Kind)>, Vec<&Value>) =
+            questions.iter().zip(&fast).filter(|(_, f)| f.proven.is_none()).map(|(&q, f)| (q, f)).unzip();
         // Where no ball can prove an answer, every open question is estimated.
         if (!balls || self.dd_balls_overflow_at(bits, at))
             && beside_allowed()
             && let Some(mut beside) =
-                self.estimates_beside_end(prefixes.as_deref_mut().map(|p| &mut p.dd), bits, at, questions, &fast)
+                self.estimates_beside_end(prefixes.as_deref_mut().map(|p| &mut p.dd), bits, at, &open, &open_fast)
         {
             return fast
                 .iter()
@@ -673,9 +676,7 @@ impl Certifier {
         let (Some(dd_balls), Some(dd)) = (self.dd_balls(), self.dd_plain()) else {
             return fast.iter().map(|f| f.proven.unwrap_or(Sign::Zero)).collect();
         };
-        // Only the questions f64 left open, realized only as deep as they reach.
-        let open: Vec<(usize, Kind)> =
-            questions.iter().zip(&fast).filter(|(_, f)| f.proven.is_none()).map(|(&q, _)| q).collect();
+        // The open questions, realized only as deep as they reach.
         let upto = open.iter().map(|&(k, _)| k).max().unwrap_or(0);
         let flat: Vec<usize> = flat.into_iter().filter(|&s| s < upto).collect();
         let mut enclose = |l: Ball<Dd>| dd_balls.base_distances_flat(l, bits, upto, &flat);
@@ -721,8 +722,8 @@ impl Certifier {
             + tolerance::ESTIMATE_FLOOR_ULPS * Dd::UNIT_ROUNDOFF * self.built.f64_balls.scale
     }
 
-    /// [`Self::estimate`]'s signs for the `questions` f64 left open at an
-    /// end, from one double-double realization at the f64 end λ itself
+    /// [`Self::estimate`]'s signs for the questions f64 left `open` at an
+    /// end (their f64 values `fast`), from one double-double realization at the f64 end λ itself
     /// rather than at the end's double-double root ([`Self::refine_dd`]):
     /// that root is about s = |slack / slope| of the flat step away, which
     /// moves each value by about its f64 slope times s. Where every value
@@ -740,8 +741,8 @@ impl Certifier {
         kept: Option<&mut Kept<Dd>>,
         bits: &[bool],
         at: At,
-        questions: &[(usize, Kind)],
-        fast: &[Value],
+        open: &[(usize, Kind)],
+        fast: &[&Value],
     ) -> Option<std::vec::IntoIter<Sign>> {
         let &event = at.events.first()?;
         let k = event.step;
@@ -749,8 +750,6 @@ impl Certifier {
         if dd.plain.on_base(k) || k >= bits.len() {
             return None;
         }
-        let open: Vec<(usize, Kind)> =
-            questions.iter().zip(fast).filter(|(_, f)| f.proven.is_none()).map(|(&q, _)| q).collect();
         let upto = open.iter().map(|&(j, _)| j).max().unwrap_or(0).max(k);
         let flat: Vec<usize> = at.events.iter().map(|e| e.step).filter(|&s| s < upto).collect();
         let slopes = dd.f64_slopes.base_distances_flat(Slope::variable(at.lambda), bits, upto, &flat);
@@ -779,7 +778,7 @@ impl Certifier {
             return None;
         }
         let mut signs = Vec::with_capacity(open.len());
-        for (&(j, kind), f) in open.iter().zip(fast.iter().filter(|f| f.proven.is_none())) {
+        for (&(j, kind), f) in open.iter().zip(fast) {
             let x = f.midpoint?;
             let (y, slope) = slack(j, kind)?;
             let moved = 2.0 * slope.abs() * off;

@@ -414,6 +414,7 @@ struct Meeting<T> {
 
 /// Where a step of the flip rule enters: type `next` at `end`, the end the
 /// walk leaves its interval by (its upper end if `leaving_upper`).
+#[derive(Clone)]
 struct Entry<T> {
     next: RealizationType,
     end: Endpoint<T>,
@@ -436,18 +437,25 @@ enum Turn<T> {
 const LEAD: usize = 4;
 
 /// A turn walked ahead ([`Walker::turns`]): where it entered (`None`: it
-/// stopped before, met the other walk already or came back to its own),
-/// how many of the other's turns it was checked against, the walk's state
-/// at that point, what it did, the interval it walked, and where it came
-/// back to one of its own the entry whose end that one takes once the turn
-/// is finished.
+/// stopped before), how many of the other's turns it was checked against,
+/// the walk's state at that point, what it did, and the interval it walked.
+/// A turn back at an interval of its own shares that interval's end only
+/// once it is finished ([`Walker::finish`]).
 struct Ahead<T> {
     entry: Option<Entry<T>>,
     checked: usize,
     rewind: Rewind,
     outcome: Advance<T>,
     walked: Option<OrientedInterval<T>>,
-    closed: Option<Entry<T>>,
+}
+
+impl<T> Ahead<T> {
+    /// Whether a later meeting with the other walk could still end the
+    /// walk at this turn: not where it came back to its own interval (that
+    /// comes first, as in lockstep) or met the other walk already.
+    fn may_meet(&self) -> Option<&Entry<T>> {
+        self.entry.as_ref().filter(|_| !matches!(self.outcome, Advance::Closed(_) | Advance::Met(_)))
+    }
 }
 
 /// A walk's state where a turn entered, restored where it turns out to
@@ -758,7 +766,7 @@ impl<'a, T: Real> Walker<'a, T> {
     /// What a turn did, once it counts: a return to an interval of the
     /// walk's own shares that interval's end now.
     fn finish(turn: Ahead<T>, intervals: &mut [OrientedInterval<T>]) -> Advance<T> {
-        if let (Advance::Closed(j), Some(entry)) = (&turn.outcome, turn.closed) {
+        if let (Advance::Closed(j), Some(entry)) = (&turn.outcome, turn.entry) {
             Self::share(intervals, *j, entry);
         }
         turn.outcome
@@ -948,7 +956,7 @@ impl<'a, T: Real> Walker<'a, T> {
                     break;
                 }
                 let seen = others.len().min(before);
-                if let Some(entry) = &turn.entry
+                if let Some(entry) = turn.may_meet()
                     && let Some(i) = self.meets(entry, &others[turn.checked..seen])
                 {
                     let meeting =
@@ -996,14 +1004,13 @@ impl<'a, T: Real> Walker<'a, T> {
         heading: &mut Heading,
         others: &[OrientedInterval<T>],
     ) -> Ahead<T> {
-        let stopped =
-            |outcome| Ahead { entry: None, checked: 0, rewind: Rewind::default(), outcome, walked: None, closed: None };
+        let stopped = |outcome| Ahead { entry: None, checked: 0, rewind: Rewind::default(), outcome, walked: None };
         let entry = match self.enter(intervals, *heading, others.len()) {
             Ok(entry) => entry,
             Err(stop) => return stopped(stop),
         };
         if let Some(j) = self.meets(&entry, intervals) {
-            return Ahead { closed: Some(entry), ..stopped(Advance::Closed(j)) };
+            return Ahead { entry: Some(entry), ..stopped(Advance::Closed(j)) };
         }
         if let Some(index) = self.meets(&entry, others) {
             let (upper, end) = (entry.leaving_upper, entry.end);
@@ -1015,10 +1022,9 @@ impl<'a, T: Real> Walker<'a, T> {
             counts: [self.steps_realized.get(), self.roots.get(), self.newton_evaluations.get()],
             estimated: self.cert.estimated(),
         };
-        let kept = Entry { next: entry.next.clone(), end: entry.end.clone(), leaving_upper: entry.leaving_upper };
-        let outcome = self.walk_into(intervals, heading, entry);
+        let outcome = self.walk_into(intervals, heading, entry.clone());
         let walked = matches!(outcome, Advance::Walked).then(|| intervals[intervals.len() - 1].clone());
-        Ahead { entry: Some(kept), checked: others.len(), rewind, outcome, walked, closed: None }
+        Ahead { entry: Some(entry), checked: others.len(), rewind, outcome, walked }
     }
 
     /// Back to where a turn walked ahead met the other walk.
