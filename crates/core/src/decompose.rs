@@ -162,8 +162,9 @@ struct Meets {
 }
 
 impl Meets {
-    fn new() -> Self {
-        Meets { stamp: Vec::new(), round: 0, count: Vec::new(), first: Vec::new() }
+    /// Room for `clusters` clusters (more grow the buffers).
+    fn with_capacity(clusters: usize) -> Self {
+        Meets { stamp: vec![0; clusters], round: 0, count: vec![0; clusters], first: vec![usize::MAX; clusters] }
     }
 
     /// Count the joints every live cluster shares with `a` (`a` itself excluded).
@@ -380,9 +381,10 @@ impl ClusterSet {
     /// Merge until nothing merges. A new triangle can only involve a newly
     /// made cluster, so each cluster is examined once when it appears.
     pub fn merge_all(&mut self) {
-        let mut work: Vec<usize> = self.alive_ids();
-        work.reverse();
-        let (mut marks, mut meets) = (JointMarks::new(self.n_joints()), Meets::new());
+        let mut work: Vec<usize> = Vec::with_capacity(self.nodes.capacity());
+        work.extend((0..self.nodes.len()).rev().filter(|&i| self.alive[i]));
+        // Every cluster the merges can make fits the set's reserved room.
+        let (mut marks, mut meets) = (JointMarks::new(self.n_joints()), Meets::with_capacity(self.nodes.capacity()));
         while let Some(a) = work.pop() {
             if !self.alive[a] {
                 continue;
@@ -668,12 +670,14 @@ pub fn steps_from_base(clusters: &ClusterSet, n_joints: usize, f: [usize; 2]) ->
             _ => None,
         }
     };
-    let mut steps = Vec::new();
+    // One step per joint past the base; the buffers sized once (growing them was a tenth of a four-bar's recognition).
+    let mut steps = Vec::with_capacity(n_joints.saturating_sub(2));
     // (key, p, y, z, q, r): triangle built–y–z with p = built ∩ y, q = y ∩ z, r = built ∩ z.
     type Candidate = ((usize, usize, usize), usize, usize, usize, usize, usize);
-    let mut heap: BinaryHeap<Reverse<Candidate>> = BinaryHeap::new();
-    let mut fresh: Vec<usize> = vec![a, b];
-    let mut batch: Vec<usize> = Vec::new();
+    let mut heap: BinaryHeap<Reverse<Candidate>> = BinaryHeap::with_capacity(2 * n_joints);
+    let mut fresh: Vec<usize> = Vec::with_capacity(n_joints);
+    fresh.extend([a, b]);
+    let mut batch: Vec<usize> = Vec::with_capacity(n_joints);
     let mut placed_count = 2;
     loop {
         // New joints of the built part: over-constraint checks and new candidates.
@@ -762,7 +766,8 @@ pub fn base_candidates<'a>(clusters: &'a ClusterSet, linkage: &'a Linkage) -> im
     // (`touching`), or those without.
     let candidates = move |touching: bool| {
         let on_ground = |a: usize| ground.contains(&a);
-        let (mut out, mut around, mut found) = (Vec::new(), Vec::new(), Vec::new());
+        // Sized for a small scene at once (growing them cost more than filling them).
+        let (mut out, mut around, mut found) = (Vec::with_capacity(16), Vec::with_capacity(8), Vec::with_capacity(16));
         for v in 0..linkage.n_joints() {
             around.clear();
             around.extend(clusters.containing(v));
