@@ -1,13 +1,15 @@
 //! Low Cayley complexity by the four-cycle test, and the complete Cayley
-//! vector (THEORY.md §3). About linear in the number of steps: the built
-//! clusters holding a joint are kept per joint, and a cluster's build
-//! position is stored, not searched.
+//! vector (THEORY.md §3). About linear in the number of steps where every
+//! joint is in a few clusters: the built clusters holding a joint are kept
+//! per joint, and a cluster's build position is stored, not searched. At a
+//! hub (a Strandbeest's pivot, held by every leg) each step reads the
+//! clusters built there, once, not once per cluster on its other base joint.
 //!
 //! Determinism: when several valid pairs of built clusters carry a step, the
 //! pair built earliest is used (smallest index of its later-built cluster,
 //! then of its earlier one).
 
-use crate::decompose::Decomposition;
+use crate::decompose::{ClusterSet, Decomposition};
 use crate::inthash::{IntMap, int_map};
 
 /// Why a pair of clusters is valid (adjacent in a four-cycle of clusters).
@@ -89,44 +91,40 @@ pub fn four_cycle_test(dec: &Decomposition) -> Complexity {
     ccv.push(dec.base);
     let mut carriers = vec![None; dec.steps.len()];
     let mut failure = None;
+    let mut pairs = SingleSharedPairs::new();
     for (k, step) in dec.steps.iter().enumerate() {
         if k > 0 && failure.is_none() {
             let (us, ws) = (&holding_joint[step.u], &holding_joint[step.w]);
+            // Only pairs hinged at one joint can carry the step or close a four-cycle.
+            let hinged = pairs.find(clusters, us, ws);
             let mut best: Option<((usize, usize), Carrier)> = None;
-            for &tu in us {
-                for &tw in ws {
-                    let Some(&origin) = valid.get(&key(tu, tw)) else { continue };
-                    let Some(x) = clusters.single_shared(tu, tw) else { continue };
-                    let (bu, bw) = (built_at[tu], built_at[tw]);
-                    let rank = (bu.max(bw), bu.min(bw));
-                    if best.as_ref().is_none_or(|(r, _)| rank < *r) {
-                        best = Some((rank, Carrier { tu, tw, x, origin }));
-                    }
+            for &(_, _, tu, tw, x) in hinged {
+                let Some(&origin) = valid.get(&key(tu, tw)) else { continue };
+                let (bu, bw) = (built_at[tu], built_at[tw]);
+                let rank = (bu.max(bw), bu.min(bw));
+                if best.as_ref().is_none_or(|(r, _)| rank < *r) {
+                    best = Some((rank, Carrier { tu, tw, x, origin }));
                 }
             }
             match best {
                 Some((_, carrier)) => {
                     carriers[k] = Some(carrier);
                     ccv.push([carrier.x, step.vertex]);
-                    for &tu in us {
-                        for &tw in ws {
-                            if let Some(far) = clusters.single_shared(tu, tw) {
-                                valid.entry(key(step.cluster_u, tu)).or_insert(PairOrigin::FourCycle {
-                                    step: k,
-                                    on_u: true,
-                                    other: tu,
-                                    opposite: tw,
-                                    far,
-                                });
-                                valid.entry(key(step.cluster_w, tw)).or_insert(PairOrigin::FourCycle {
-                                    step: k,
-                                    on_u: false,
-                                    other: tw,
-                                    opposite: tu,
-                                    far,
-                                });
-                            }
-                        }
+                    for &(_, _, tu, tw, far) in hinged {
+                        valid.entry(key(step.cluster_u, tu)).or_insert(PairOrigin::FourCycle {
+                            step: k,
+                            on_u: true,
+                            other: tu,
+                            opposite: tw,
+                            far,
+                        });
+                        valid.entry(key(step.cluster_w, tw)).or_insert(PairOrigin::FourCycle {
+                            step: k,
+                            on_u: false,
+                            other: tw,
+                            opposite: tu,
+                            far,
+                        });
                     }
                 }
                 None => {
@@ -151,6 +149,70 @@ pub fn four_cycle_test(dec: &Decomposition) -> Complexity {
     Complexity { low: failure.is_none(), ccv, carriers, failure }
 }
 
+/// The pairs of clusters `(tu, tw)`, `tu` from one list and `tw` from
+/// another, that share exactly one joint, with that joint, in the order of
+/// a loop over the first list and, inside it, the second (the order the
+/// test's choices depend on). Buffers are kept from step to step.
+struct SingleSharedPairs {
+    /// `stamp[j] == round`: joint j is in the cluster marked last (sized on first use).
+    stamp: Vec<u32>,
+    round: u32,
+    /// (position in the first list, position in the second, tu, tw, joint).
+    found: Vec<(usize, usize, usize, usize, usize)>,
+}
+
+impl SingleSharedPairs {
+    fn new() -> Self {
+        SingleSharedPairs { stamp: Vec::new(), round: 0, found: Vec::new() }
+    }
+
+    /// The hinged pairs of `us` × `ws` as (·, ·, tu, tw, joint). A few pairs
+    /// are compared directly. Otherwise each cluster of the list with fewer
+    /// joints in all is marked in turn and the other list's clusters are
+    /// read against it: a hub's many small clusters are read once per
+    /// cluster on the other side (a few), and a big cluster (a crank body)
+    /// is never merged joint by joint with each of them.
+    fn find(&mut self, clusters: &ClusterSet, us: &[usize], ws: &[usize]) -> &[(usize, usize, usize, usize, usize)] {
+        self.found.clear();
+        if us.len() * ws.len() <= DIRECT_PAIRS {
+            for (ui, &tu) in us.iter().enumerate() {
+                for (wi, &tw) in ws.iter().enumerate() {
+                    if let Some(joint) = clusters.single_shared(tu, tw) {
+                        self.found.push((ui, wi, tu, tw, joint));
+                    }
+                }
+            }
+            return &self.found;
+        }
+        if self.stamp.is_empty() {
+            self.stamp = vec![0; clusters.n_joints()];
+        }
+        let size = |list: &[usize]| list.iter().map(|&c| clusters.nodes[c].joints.len()).sum::<usize>();
+        let marked_us = size(us) + us.len() * size(ws) < size(ws) + ws.len() * size(us);
+        let (marked, read) = if marked_us { (us, ws) } else { (ws, us) };
+        for (mi, &m) in marked.iter().enumerate() {
+            self.round += 1;
+            for &j in &clusters.nodes[m].joints {
+                self.stamp[j] = self.round;
+            }
+            for (ri, &r) in read.iter().enumerate() {
+                // r's joints ascend, so the first shared one is the smallest (as `single_shared` gives).
+                let mut shared = clusters.nodes[r].joints.iter().filter(|&&j| self.stamp[j] == self.round);
+                let (Some(&joint), None) = (shared.next(), shared.next()) else { continue };
+                let (ui, wi, tu, tw) = if marked_us { (mi, ri, m, r) } else { (ri, mi, r, m) };
+                self.found.push((ui, wi, tu, tw, joint));
+            }
+        }
+        if !marked_us {
+            self.found.sort_unstable();
+        }
+        &self.found
+    }
+}
+
+/// Pairs of clusters compared directly (below, marking costs more than it saves).
+const DIRECT_PAIRS: usize = 16;
+
 /// For a step past the failing one: a built joint other than `u`, `w`, so
 /// that its distance to the vertex still tells the step's two orientations apart.
 fn fallback_partner(dec: &Decomposition, k: usize) -> usize {
@@ -172,4 +234,61 @@ fn explain_failure(dec: &Decomposition, k: usize, us: &[usize], ws: &[usize]) ->
         .map(|(tu, tw)| [joints(tu), joints(tw)])
         .collect();
     LccFailure { step: k, opposite }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::decompose::Origin;
+    use crate::linkage::Linkage;
+    use crate::scene::parse_scene;
+
+    /// Marking finds the hinged pairs that comparing every pair finds, in
+    /// the same order, whichever list it marks: on clusters round a hub
+    /// (joint 0, in many small clusters) and a big cluster (joints 10–29).
+    #[test]
+    fn hinged_pairs_are_those_of_every_pair_compared() {
+        let mut text = String::from("bars = [\n");
+        for i in 0..29 {
+            text += &format!("[\"J{i}\", \"J{}\"],\n", i + 1);
+        }
+        text += "]\n[joints]\n";
+        for i in 0..30 {
+            text += &format!("J{i} = [{}, {}]\n", i as f64, (i % 3) as f64);
+        }
+        let linkage = Linkage::from_scene(&parse_scene(&text, "hub.toml", "hub").unwrap());
+        let mut set = ClusterSet::initial(&linkage);
+        set.add((10..30).collect(), Origin::Base);
+        for j in 1..25 {
+            set.add(vec![0, j, j + 1], Origin::Base);
+        }
+        for j in 0..8 {
+            set.add(vec![15, j], Origin::Base);
+        }
+        let holding = |j: usize| (0..set.nodes.len()).filter(|&c| set.nodes[c].joints.contains(&j)).collect::<Vec<_>>();
+        let size = |list: &[usize]| list.iter().map(|&c| set.nodes[c].joints.len()).sum::<usize>();
+        let mut pairs = SingleSharedPairs::new();
+        let mut marked = [0, 0];
+        for a in 0..30 {
+            for b in 0..30 {
+                let (us, ws) = (holding(a), holding(b));
+                let direct: Vec<_> = us
+                    .iter()
+                    .enumerate()
+                    .flat_map(|(ui, &tu)| {
+                        let set = &set;
+                        ws.iter()
+                            .enumerate()
+                            .filter_map(move |(wi, &tw)| set.single_shared(tu, tw).map(|j| (ui, wi, tu, tw, j)))
+                    })
+                    .collect();
+                assert_eq!(pairs.find(&set, &us, &ws), &direct[..], "joints {a} and {b}");
+                if us.len() * ws.len() > DIRECT_PAIRS {
+                    let marks_us = size(&us) + us.len() * size(&ws) < size(&ws) + ws.len() * size(&us);
+                    marked[usize::from(marks_us)] += 1;
+                }
+            }
+        }
+        assert!(marked.iter().all(|&n| n > 0), "each list marked somewhere: {marked:?}");
+    }
 }

@@ -670,14 +670,17 @@ pub fn steps_from_base(clusters: &ClusterSet, n_joints: usize, f: [usize; 2]) ->
             _ => None,
         }
     };
-    // One step per joint past the base; the buffers sized once (growing them was a tenth of a four-bar's recognition).
+    // One step per joint past the base. The work lists start with room for
+    // a small scene's frontier (growing them from empty was a tenth of a
+    // four-bar's recognition) and grow past it on large ones.
     let mut steps = Vec::with_capacity(n_joints.saturating_sub(2));
+    let frontier = n_joints.min(64);
     // (key, p, y, z, q, r): triangle built–y–z with p = built ∩ y, q = y ∩ z, r = built ∩ z.
     type Candidate = ((usize, usize, usize), usize, usize, usize, usize, usize);
-    let mut heap: BinaryHeap<Reverse<Candidate>> = BinaryHeap::with_capacity(2 * n_joints);
-    let mut fresh: Vec<usize> = Vec::with_capacity(n_joints);
+    let mut heap: BinaryHeap<Reverse<Candidate>> = BinaryHeap::with_capacity(2 * frontier);
+    let mut fresh: Vec<usize> = Vec::with_capacity(frontier);
     fresh.extend([a, b]);
-    let mut batch: Vec<usize> = Vec::with_capacity(n_joints);
+    let mut batch: Vec<usize> = Vec::with_capacity(frontier);
     let mut placed_count = 2;
     loop {
         // New joints of the built part: over-constraint checks and new candidates.
