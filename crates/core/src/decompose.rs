@@ -46,6 +46,18 @@ pub struct ClusterSet {
     pub nodes: Vec<ClusterNode>,
     alive: Vec<bool>,
     by_joint: Memberships,
+    /// Per joint: the live clusters holding it, and their joints in all.
+    live_at: Vec<Held>,
+}
+
+/// The live clusters at a joint: how many, and their joints in all (what a
+/// search through them reads).
+#[derive(Debug, Clone, Copy, Default)]
+struct Held {
+    clusters: usize,
+    joints: usize,
+    /// Dead clusters still in the joint's list (see [`ClusterSet::add`]).
+    dead: usize,
 }
 
 /// No entry (the end of a [`Memberships`] list).
@@ -88,10 +100,11 @@ impl Memberships {
     }
 
     /// Unlink the clusters `alive` says are dead from `joint`'s list (the
-    /// others keep their order). Called for every joint of a new cluster:
-    /// the clusters it merged die then, and a joint's list stays as short as
-    /// the live clusters holding it (on a strip of merged triangles it grew
-    /// by one entry per merge, and every search at the joint walked them all).
+    /// others keep their order). Called at a joint of a new cluster once its
+    /// dead clusters outnumber its live ones ([`ClusterSet::add`]), so a
+    /// joint's list stays at most about twice as long as the live clusters
+    /// holding it (on a strip of merged triangles it grew by one entry per
+    /// merge, and every search at the joint walked them all).
     fn purge(&mut self, joint: usize, alive: &[bool]) {
         let (mut prev, mut at) = (NONE, self.head[joint]);
         while at != NONE {
@@ -109,7 +122,7 @@ impl Memberships {
     }
 
     /// The clusters holding `joint` in creation order (dead ones included
-    /// until the joint's next merge: see [`Self::purge`]).
+    /// until they are purged: see [`Self::purge`]).
     fn of(&self, joint: usize) -> impl Iterator<Item = usize> + '_ {
         let mut at = self.head[joint];
         std::iter::from_fn(move || {
@@ -216,8 +229,36 @@ fn sorted_intersection(a: &[usize], b: &[usize]) -> Vec<usize> {
     out
 }
 
+/// Joint lists this many times longer than the other are searched, not merged.
+const LOPSIDED: usize = 8;
+
+/// A cluster of at most this many joints, beside a hub, is merged by
+/// [`ClusterSet::merge_by_pairs`].
+const PAIR_SEARCH_JOINTS: usize = 8;
+
+/// A joint in more clusters than this may be a hub (see [`ClusterSet::merge_at_joints`]).
+const HUB_CLUSTERS: usize = 8;
+
+/// Joints in the clusters at a cluster's joints, in all, above which the
+/// search from its joints' clusters ([`ClusterSet::merge_at_joints`]) costs
+/// more than the one by pairs of its joints.
+const PAIR_SEARCH_ABOVE: usize = 64;
+
+/// [`ClusterSet::meet`] of a few joints and many (a crank body): each of
+/// the few looked up. They ascend, so the first found is the smallest shared.
+#[inline(never)]
+fn meet_lopsided(x: &[usize], y: &[usize]) -> (usize, usize) {
+    let (short, long) = if x.len() <= y.len() { (x, y) } else { (y, x) };
+    let mut shared = short.iter().filter(|j| long.binary_search(j).is_ok());
+    match (shared.next(), shared.next()) {
+        (None, _) => (0, usize::MAX),
+        (Some(&j), None) => (1, j),
+        (Some(&j), Some(_)) => (2, j),
+    }
+}
+
 /// A merge found by [`ClusterSet::find_merge`].
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 enum Merge {
     Triangle { parts: [usize; 3], shared: [usize; 3] },
     Overlap { parts: [usize; 2] },
@@ -235,6 +276,7 @@ impl ClusterSet {
             nodes: Vec::with_capacity(2 * initial),
             alive: Vec::with_capacity(2 * initial),
             by_joint: Memberships::new(linkage.n_joints(), 2 * memberships),
+            live_at: vec![Held::default(); linkage.n_joints()],
         };
         let within = bars_within_bodies(linkage);
         let ignored = |i: usize| within.iter().any(|b| b.agrees && b.bar == i);
@@ -255,8 +297,16 @@ impl ClusterSet {
         joints.dedup();
         let id = self.nodes.len();
         for &j in &joints {
-            self.by_joint.purge(j, &self.alive);
+            // Purged once the dead outnumber the live: a list stays at most
+            // about twice as long as the live clusters at its joint, and a
+            // hub's list is not walked at every merge there.
+            if self.live_at[j].dead > self.live_at[j].clusters {
+                self.by_joint.purge(j, &self.alive);
+                self.live_at[j].dead = 0;
+            }
             self.by_joint.push(j, id);
+            self.live_at[j].clusters += 1;
+            self.live_at[j].joints += joints.len();
         }
         self.nodes.push(ClusterNode { joints, origin });
         self.alive.push(true);
@@ -296,6 +346,9 @@ impl ClusterSet {
     /// first of them (`usize::MAX` when none): [`Self::shared`] without allocating.
     fn meet(&self, a: usize, b: usize) -> (usize, usize) {
         let (x, y) = (&self.nodes[a].joints, &self.nodes[b].joints);
+        if x.len() * LOPSIDED < y.len() || y.len() * LOPSIDED < x.len() {
+            return meet_lopsided(x, y);
+        }
         let (mut i, mut j, mut count, mut first) = (0, 0, 0, usize::MAX);
         while i < x.len() && j < y.len() {
             match x[i].cmp(&y[j]) {
@@ -334,9 +387,33 @@ impl ClusterSet {
     /// shared joint, three distinct joints) or an overlap of two or more joints.
     /// `marks` and `meets` are scratch space (they end up describing `a`).
     fn find_merge(&self, a: usize, marks: &mut JointMarks, meets: &mut Meets) -> Option<Merge> {
-        marks.set(&self.nodes[a].joints);
+        let joints = &self.nodes[a].joints;
+        if joints.len() <= PAIR_SEARCH_JOINTS {
+            // What each search reads first: every cluster at each joint, or
+            // for each two joints the clusters at the one in fewer.
+            let read = |j: usize| self.live_at[j].joints;
+            let around: usize = joints.iter().map(|&j| read(j)).sum();
+            let by_pairs = || {
+                let pairs = joints.iter().enumerate().flat_map(|(i, &p)| joints[i + 1..].iter().map(move |&r| (p, r)));
+                pairs.map(|(p, r)| 2 * read(p).min(read(r))).sum::<usize>()
+            };
+            if around > PAIR_SEARCH_ABOVE && by_pairs() < around {
+                return self.merge_by_pairs(a);
+            }
+        }
+        self.merge_at_joints(a, marks, meets)
+    }
+
+    /// [`Self::find_merge`] through the clusters at each joint of `a` in
+    /// turn: the first merge in the order of a's joints p, the clusters b at
+    /// p (an overlap before b's triangles), b's joints q, the clusters c at q.
+    fn merge_at_joints(&self, a: usize, marks: &mut JointMarks, meets: &mut Meets) -> Option<Merge> {
+        let joints = &self.nodes[a].joints;
+        marks.set(joints);
         meets.around(self, a);
-        for &p in &self.nodes[a].joints {
+        // The clusters at a's joints: a c closing a triangle is one of them.
+        let at_a = || joints.iter().map(|&r| self.live_at[r].clusters).sum::<usize>();
+        for &p in joints {
             for b in self.containing(p) {
                 if b == a {
                     continue;
@@ -348,20 +425,89 @@ impl ClusterSet {
                     if q == p || marks.has(q) {
                         continue;
                     }
-                    for c in self.containing(q) {
-                        if c == a || c == b {
-                            continue;
-                        }
-                        // Most clusters at q miss `a`: that test first.
-                        let (1, r) = meets.with(c) else { continue };
-                        if self.single_shared(b, c) == Some(q) {
-                            return Some(Merge::Triangle { parts: [a, b, c], shared: [p, q, r] });
-                        }
+                    // Most clusters at q miss `a`: that test first.
+                    let closes =
+                        |c: usize| c != a && c != b && meets.with(c).0 == 1 && self.single_shared(b, c) == Some(q);
+                    // The first such c at q; at a hub q, the first of those at
+                    // a's joints that hold q (the same cluster: the one of least id).
+                    let held = self.live_at[q].clusters;
+                    let c = if held > HUB_CLUSTERS && held > at_a() {
+                        joints
+                            .iter()
+                            .flat_map(|&r| self.containing(r))
+                            .filter(|&c| self.contains(c, q) && closes(c))
+                            .min()
+                    } else {
+                        self.containing(q).find(|&c| closes(c))
+                    };
+                    if let Some(c) = c {
+                        return Some(Merge::Triangle { parts: [a, b, c], shared: [p, q, meets.with(c).1] });
                     }
                 }
             }
         }
         None
+    }
+
+    /// [`Self::merge_at_joints`]'s answer for a small cluster `a` beside a
+    /// hub (a joint in many clusters) or a big cluster: for each two of its
+    /// joints p and r, the clusters holding both (overlaps), and the
+    /// triangles whose b holds p and c holds r, searched from the side whose
+    /// clusters hold fewer joints, each other cluster found among those
+    /// holding two given joints ([`Self::holding_both`]). Of everything found,
+    /// the first in `merge_at_joints`' order: so the same merge.
+    fn merge_by_pairs(&self, a: usize) -> Option<Merge> {
+        let joints = &self.nodes[a].joints;
+        let outside = |q: usize| joints.binary_search(&q).is_err();
+        // (p, b, 0, …) an overlap, (p, b, 1, q, c, r) a triangle.
+        let mut first: Option<(usize, usize, u8, usize, usize, usize)> = None;
+        let mut keep = |found: (usize, usize, u8, usize, usize, usize)| {
+            if first.is_none_or(|f| found < f) {
+                first = Some(found);
+            }
+        };
+        for &p in joints {
+            for &r in joints.iter().filter(|&&r| r != p) {
+                if p < r {
+                    for b in self.holding_both(p, r).filter(|&b| b != a) {
+                        // Met first at its smallest joint shared with a.
+                        keep((self.meet(a, b).1, b, 0, 0, 0, 0));
+                    }
+                }
+                if self.live_at[p].joints <= self.live_at[r].joints {
+                    for b in self.containing(p).filter(|&b| b != a && self.meet(a, b).0 < 2) {
+                        for &q in self.nodes[b].joints.iter().filter(|&&q| outside(q)) {
+                            for c in self.holding_both(q, r) {
+                                if c != a && c != b && self.meet(a, c) == (1, r) && self.single_shared(b, c) == Some(q)
+                                {
+                                    keep((p, b, 1, q, c, r));
+                                }
+                            }
+                        }
+                    }
+                } else {
+                    for c in self.containing(r).filter(|&c| c != a && self.meet(a, c) == (1, r)) {
+                        for &q in self.nodes[c].joints.iter().filter(|&&q| outside(q)) {
+                            for b in self.holding_both(q, p) {
+                                if b != a && b != c && self.meet(a, b).0 < 2 && self.single_shared(b, c) == Some(q) {
+                                    keep((p, b, 1, q, c, r));
+                                }
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        first.map(|(p, b, kind, q, c, r)| match kind {
+            0 => Merge::Overlap { parts: [a, b] },
+            _ => Merge::Triangle { parts: [a, b, c], shared: [p, q, r] },
+        })
+    }
+
+    /// Live clusters holding both joints, from the joint in fewer clusters.
+    fn holding_both(&self, x: usize, y: usize) -> impl Iterator<Item = usize> + '_ {
+        let (few, other) = if self.live_at[x].clusters <= self.live_at[y].clusters { (x, y) } else { (y, x) };
+        self.containing(few).filter(move |&c| self.contains(c, other))
     }
 
     fn apply(&mut self, merge: Merge) -> usize {
@@ -373,7 +519,13 @@ impl ClusterSet {
         let mut joints = Vec::with_capacity(parts.iter().map(|&p| self.nodes[p].joints.len()).sum());
         for &p in parts {
             self.alive[p] = false;
-            joints.extend_from_slice(&self.nodes[p].joints);
+            let part = &self.nodes[p].joints;
+            joints.extend_from_slice(part);
+            for &j in part {
+                self.live_at[j].clusters -= 1;
+                self.live_at[j].joints -= part.len();
+                self.live_at[j].dead += 1;
+            }
         }
         self.add(joints, origin)
     }
@@ -423,9 +575,31 @@ pub struct BodyBar {
 /// the linkage, and the rigidity count names that bar as redundant.
 pub fn bars_within_bodies(linkage: &Linkage) -> Vec<BodyBar> {
     let mut out = Vec::new();
+    if linkage.bodies.is_empty() {
+        return out;
+    }
+    // The bodies holding each joint, ascending (one pass over the bodies,
+    // not a search of every body for every bar: a crank body holds a
+    // Strandbeest's every leg).
+    let mut start = vec![0usize; linkage.n_joints() + 1];
+    for &j in linkage.bodies.iter().flatten() {
+        start[j + 1] += 1;
+    }
+    for j in 0..linkage.n_joints() {
+        start[j + 1] += start[j];
+    }
+    let mut fill = start.clone();
+    let mut bodies_at = vec![0usize; start[linkage.n_joints()]];
+    for (i, body) in linkage.bodies.iter().enumerate() {
+        for &j in body {
+            bodies_at[fill[j]] = i;
+            fill[j] += 1;
+        }
+    }
+    let at = |j: usize| &bodies_at[start[j]..start[j + 1]];
     for (bar, b) in linkage.bars.iter().enumerate() {
         let [p, q] = b.joints;
-        if let Some(body) = linkage.bodies.iter().position(|body| body.contains(&p) && body.contains(&q)) {
+        if let Some(&body) = at(p).iter().find(|i| at(q).contains(i)) {
             let drawn = crate::linkage::dist(linkage.drawn[p], linkage.drawn[q]);
             let agrees = crate::scene::body_bar_agrees(b.length, drawn, linkage.scale);
             out.push(BodyBar { bar, body, agrees });
@@ -903,18 +1077,71 @@ mod tests {
         Linkage::from_scene(&parse_scene(&text, "strip.toml", "strip").unwrap())
     }
 
-    /// Merging purges the dead clusters from the lists of the merged
-    /// cluster's joints: after the strip's halves merge, every joint lists
-    /// only live clusters (it listed one dead cluster per merge before, and
-    /// the merge search walked them all: cubic in the strip's length).
+    /// The search by pairs of joints finds the merge the search at each
+    /// joint finds, for every small live cluster, while a fan of legs round
+    /// a hub (joint H, in every leg) with a big cluster on the legs' feet
+    /// merges step by step: overlaps and triangles alike.
     #[test]
-    fn a_joint_lists_only_live_clusters_after_its_merges() {
+    fn merges_found_by_pairs_are_those_found_at_joints() {
+        let legs = 12;
+        let mut text = String::from("bars = [\n");
+        for i in 0..legs {
+            for (x, y) in [("H", "A"), ("H", "B"), ("A", "B"), ("A", "C"), ("B", "C")] {
+                let name = |s: &str| if s == "H" { s.to_string() } else { format!("{s}{i}") };
+                text += &format!("[\"{}\", \"{}\"],\n", name(x), name(y));
+            }
+        }
+        text += "]\n[joints]\nH = [0.0, 0.0]\n";
+        for i in 0..legs {
+            let t = i as f64 * 0.5;
+            text += &format!(
+                "A{i} = [{}, {}]\nB{i} = [{}, {}]\n",
+                3.0 * t.cos(),
+                3.0 * t.sin(),
+                4.0 * (t + 0.2).cos(),
+                4.0 * (t + 0.2).sin()
+            );
+            text += &format!("C{i} = [{}, {}]\n", 6.0 * (t + 0.1).cos(), 6.5 * (t + 0.1).sin());
+        }
+        let linkage = Linkage::from_scene(&parse_scene(&text, "fan.toml", "fan").unwrap());
+        let mut set = ClusterSet::initial(&linkage);
+        let feet: Vec<usize> =
+            (0..legs).step_by(3).map(|i| linkage.names.iter().position(|n| *n == format!("C{i}")).unwrap()).collect();
+        set.add(feet, Origin::Base);
+        let (mut marks, mut meets) = (JointMarks::new(set.n_joints()), Meets::with_capacity(0));
+        let (mut compared, mut kinds) = (0, [0, 0]);
+        loop {
+            let mut next = None;
+            for a in set.alive_ids() {
+                let at_joints = set.merge_at_joints(a, &mut marks, &mut meets);
+                if set.nodes[a].joints.len() <= PAIR_SEARCH_JOINTS {
+                    assert_eq!(set.merge_by_pairs(a), at_joints, "cluster {a}: {:?}", set.nodes[a].joints);
+                    compared += 1;
+                }
+                if let Some(m) = at_joints {
+                    kinds[usize::from(matches!(m, Merge::Triangle { .. }))] += 1;
+                    next = next.or(Some(m));
+                }
+            }
+            let Some(m) = next else { break };
+            set.apply(m);
+        }
+        assert!(compared > 200 && kinds.iter().all(|&n| n > 0), "{compared} compared, {kinds:?} overlaps, triangles");
+    }
+
+    /// Merging purges the dead clusters from the lists of the merged
+    /// cluster's joints once they outnumber the live ones: after the
+    /// strip's halves merge, every joint lists at most one dead cluster more
+    /// than it has live ones (it listed one dead cluster per merge before,
+    /// and the merge search walked them all: cubic in the strip's length).
+    #[test]
+    fn a_joint_lists_few_dead_clusters_after_its_merges() {
         let clusters = classify(&strip(40)).unwrap();
         assert_eq!(clusters.alive_ids().len(), 2, "two rigid halves");
         for j in 0..clusters.n_joints() {
-            let listed = clusters.by_joint.of(j).count();
-            assert_eq!(listed, clusters.containing(j).count(), "joint {j}");
-            assert!((1..=2).contains(&listed), "joint {j}: {listed}");
+            let (listed, live) = (clusters.by_joint.of(j).count(), clusters.containing(j).count());
+            assert!((1..=2).contains(&live), "joint {j}: {live} live");
+            assert!(listed <= 2 * live + 1, "joint {j}: {listed} listed, {live} live");
         }
     }
 }
