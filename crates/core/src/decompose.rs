@@ -339,7 +339,7 @@ impl ClusterSet {
 
     /// Whether a live cluster holds both joints (they are rigidly joined).
     pub fn clustered(&self, a: usize, b: usize) -> bool {
-        self.containing(a).any(|c| self.contains(c, b))
+        self.holding_both(a, b).next().is_some()
     }
 
     /// The joints clusters `a` and `b` share, counted up to two, and the
@@ -945,33 +945,50 @@ pub fn base_candidates<'a>(clusters: &'a ClusterSet, linkage: &'a Linkage) -> im
         let on_ground = |a: usize| ground.contains(&a);
         // Sized for a small scene at once (growing them cost more than filling them).
         let (mut out, mut around, mut found) = (Vec::with_capacity(16), Vec::with_capacity(8), Vec::with_capacity(16));
+        // With the ground, a pair gives a base only where one of its
+        // clusters holds a ground joint other than v: at a hub, those few
+        // clusters are paired with all, not all with all.
+        let grounded = |y: usize, v: usize| ground.iter().any(|&g| g != v && clusters.contains(y, g));
+        let (mut tagged, mut pairs) = (Vec::new(), Vec::new());
         for v in 0..linkage.n_joints() {
             around.clear();
             around.extend(clusters.containing(v));
-            for (i, &y) in around.iter().enumerate() {
-                for &z in &around[i + 1..] {
-                    if clusters.single_shared(y, z) != Some(v) {
-                        continue;
-                    }
-                    let (ys, zs) = (&clusters.nodes[y].joints, &clusters.nodes[z].joints);
-                    found.clear();
-                    if touching {
-                        for &g in ground {
-                            found.extend(zs.iter().filter(|_| ys.contains(&g)).map(|&b| [g, b]));
-                            found.extend(ys.iter().filter(|_| zs.contains(&g)).map(|&a| [a, g]));
-                        }
-                    } else {
-                        for &a in ys.iter().filter(|&&a| !on_ground(a)) {
-                            found.extend(zs.iter().filter(|&&b| !on_ground(b)).map(|&b| [a, b]));
-                        }
-                    }
-                    out.extend(
-                        found
-                            .iter()
-                            .filter(|&&[a, b]| a != v && b != v && !clustered(a, b))
-                            .map(|&[a, b]| [a.min(b), a.max(b)]),
-                    );
+            pairs.clear();
+            if touching {
+                tagged.clear();
+                tagged.extend(around.iter().map(|&y| grounded(y, v)));
+                for (i, &y) in around.iter().enumerate().filter(|&(i, _)| tagged[i]) {
+                    // Each pair once: one with an earlier tagged cluster came up as that one's.
+                    let others = around.iter().enumerate().filter(|&(j, _)| j != i && !(tagged[j] && j < i));
+                    pairs.extend(others.map(|(_, &z)| (y, z)));
                 }
+            } else {
+                for (i, &y) in around.iter().enumerate() {
+                    pairs.extend(around[i + 1..].iter().map(|&z| (y, z)));
+                }
+            }
+            for &(y, z) in &pairs {
+                if clusters.single_shared(y, z) != Some(v) {
+                    continue;
+                }
+                let (ys, zs) = (&clusters.nodes[y].joints, &clusters.nodes[z].joints);
+                found.clear();
+                if touching {
+                    for &g in ground {
+                        found.extend(zs.iter().filter(|_| ys.binary_search(&g).is_ok()).map(|&b| [g, b]));
+                        found.extend(ys.iter().filter(|_| zs.binary_search(&g).is_ok()).map(|&a| [a, g]));
+                    }
+                } else {
+                    for &a in ys.iter().filter(|&&a| !on_ground(a)) {
+                        found.extend(zs.iter().filter(|&&b| !on_ground(b)).map(|&b| [a, b]));
+                    }
+                }
+                out.extend(
+                    found
+                        .iter()
+                        .filter(|&&[a, b]| a != v && b != v && !clustered(a, b))
+                        .map(|&[a, b]| [a.min(b), a.max(b)]),
+                );
             }
         }
         // Each pair once.
