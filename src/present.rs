@@ -104,6 +104,23 @@ pub fn type_label_legend(steps: usize) -> String {
     )
 }
 
+/// Joints of a set written out in full (see [`joint_set`]).
+const JOINT_SET_SHOWN: usize = 12;
+
+/// `{a,b,c}`: a cluster's joints. A set of more than [`JOINT_SET_SHOWN`]
+/// shows its first ones and says how many it holds (`{O,X0,…,X10,… 5001
+/// joints}`): a Strandbeest's crank body holds every leg's crank tip, and
+/// written out it made every row of the step table thousands of characters
+/// wide (434 MB of text for 5000 legs).
+pub fn joint_set<S: AsRef<str>>(names: &[S]) -> String {
+    let shown: Vec<&str> = names.iter().take(JOINT_SET_SHOWN).map(AsRef::as_ref).collect();
+    if names.len() <= JOINT_SET_SHOWN {
+        format!("{{{}}}", shown.join(","))
+    } else {
+        format!("{{{},… {} joints}}", shown.join(","), names.len())
+    }
+}
+
 /// `v ◁ (u, w)`: vertex `v` placed on `u` and `w` (a step without its number).
 pub fn step_shape(vertex: &str, u: &str, w: &str) -> String {
     format!("{vertex} ◁ ({u}, {w})")
@@ -199,7 +216,7 @@ pub fn lcc_failure(f: &LccFailure, n: Names) -> String {
     let why = if f.opposite.is_empty() {
         format!("no adjacent pair of built clusters in a four-cycle holds {u} and {w}")
     } else {
-        let cluster = |js: &[usize]| format!("{{{}}}", js.iter().map(|&j| n.joint(j)).collect::<Vec<_>>().join(","));
+        let cluster = |js: &[usize]| joint_set(&js.iter().map(|&j| n.joint(j)).collect::<Vec<_>>());
         let pairs: Vec<String> = f.opposite.iter().map(|[a, b]| format!("{} and {}", cluster(a), cluster(b))).collect();
         format!("{u} and {w} lie on clusters that share no joint (opposite in a four-cycle): {}", pairs.join("; "))
     };

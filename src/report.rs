@@ -505,8 +505,8 @@ impl Report {
                 [
                     s.step.to_string(),
                     present::step_shape(&s.vertex, &s.on[0], &s.on[1]),
-                    format!("{{{}}}", s.clusters[0].join(",")),
-                    format!("{{{}}}", s.clusters[1].join(",")),
+                    present::joint_set(&s.clusters[0]),
+                    present::joint_set(&s.clusters[1]),
                     format!("{}, {}", fmt_num(s.lengths[0]), fmt_num(s.lengths[1])),
                 ]
             })

@@ -9,6 +9,8 @@ use caymos::generate::{chain, strandbeest, to_toml};
 use caymos::realize::RealizationType;
 use caymos::scene::parse_scene;
 
+use crate::helpers::{caymos, scratch, stderr, stdout, write};
+
 #[test]
 fn bench_runs_on_every_bundled_scene_and_hard_case() {
     let out = Command::new(env!("CARGO_BIN_EXE_caymos"))
@@ -132,4 +134,24 @@ fn analysis_rows_time_the_same_analysis_by_phase() {
     let text = Command::new(env!("CARGO_BIN_EXE_caymos")).args(["bench", "jansen", "--repeat", "1"]).output().unwrap();
     let text = String::from_utf8_lossy(&text.stdout);
     assert!(text.contains("analysis µs") && text.contains("realizations") && text.contains("cayley_space"), "{text}");
+}
+
+/// A cluster of many joints (a Strandbeest's crank body holds every leg's
+/// crank tip) is shown by its first joints and its size, so the step table
+/// stays as wide as for a few legs: written out, 5000 legs made 434 MB of
+/// text. Each row still names both clusters.
+#[test]
+fn a_big_cluster_is_shown_by_its_first_joints_and_its_size() {
+    let dir = scratch("big-cluster");
+    let path = write(&dir, "beest.toml", &to_toml(&strandbeest(40)));
+    let out = caymos(&["report", &path]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = stdout(&out);
+    let table: Vec<&str> =
+        text.lines().skip_while(|l| !l.starts_with("Construction steps")).skip(2).take(121).collect();
+    assert_eq!(table.len(), 121);
+    assert!(table[0].contains("{O,X0,X1,X2,X3,X4,X5,X6,X7,X8,X9,X10,… 41 joints}"), "{}", table[0]);
+    let widest = table.iter().map(|l| l.chars().count()).max().unwrap();
+    assert!(widest < 140, "{widest} characters: {}", table[0]);
+    assert!(table.iter().all(|l| l.matches('{').count() == 2), "both clusters on every row");
 }
