@@ -9,7 +9,7 @@
 //! pair built earliest is used (smallest index of its later-built cluster,
 //! then of its earlier one).
 
-use crate::decompose::{ClusterSet, Decomposition};
+use crate::decompose::{ClusterSet, Decomposition, JointMarks};
 use crate::inthash::{IntMap, int_map};
 
 /// Why a pair of clusters is valid (adjacent in a four-cycle of clusters).
@@ -154,16 +154,15 @@ pub fn four_cycle_test(dec: &Decomposition) -> Complexity {
 /// a loop over the first list and, inside it, the second (the order the
 /// test's choices depend on). Buffers are kept from step to step.
 struct SingleSharedPairs {
-    /// `stamp[j] == round`: joint j is in the cluster marked last (sized on first use).
-    stamp: Vec<u32>,
-    round: u32,
+    /// The joints of the cluster marked last (made on first use).
+    marks: Option<JointMarks>,
     /// (position in the first list, position in the second, tu, tw, joint).
     found: Vec<(usize, usize, usize, usize, usize)>,
 }
 
 impl SingleSharedPairs {
     fn new() -> Self {
-        SingleSharedPairs { stamp: Vec::new(), round: 0, found: Vec::new() }
+        SingleSharedPairs { marks: None, found: Vec::new() }
     }
 
     /// The hinged pairs of `us` × `ws` as (·, ·, tu, tw, joint). A few pairs
@@ -184,20 +183,15 @@ impl SingleSharedPairs {
             }
             return &self.found;
         }
-        if self.stamp.is_empty() {
-            self.stamp = vec![0; clusters.n_joints()];
-        }
+        let marks = self.marks.get_or_insert_with(|| JointMarks::new(clusters.n_joints()));
         let size = |list: &[usize]| list.iter().map(|&c| clusters.nodes[c].joints.len()).sum::<usize>();
         let marked_us = size(us) + us.len() * size(ws) < size(ws) + ws.len() * size(us);
         let (marked, read) = if marked_us { (us, ws) } else { (ws, us) };
         for (mi, &m) in marked.iter().enumerate() {
-            self.round += 1;
-            for &j in &clusters.nodes[m].joints {
-                self.stamp[j] = self.round;
-            }
+            marks.set(&clusters.nodes[m].joints);
             for (ri, &r) in read.iter().enumerate() {
                 // r's joints ascend, so the first shared one is the smallest (as `single_shared` gives).
-                let mut shared = clusters.nodes[r].joints.iter().filter(|&&j| self.stamp[j] == self.round);
+                let mut shared = clusters.nodes[r].joints.iter().filter(|&&j| marks.has(j));
                 let (Some(&joint), None) = (shared.next(), shared.next()) else { continue };
                 let (ui, wi, tu, tw) = if marked_us { (mi, ri, m, r) } else { (ri, mi, r, m) };
                 self.found.push((ui, wi, tu, tw, joint));

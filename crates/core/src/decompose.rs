@@ -135,26 +135,26 @@ impl Memberships {
 
 /// The joints of one cluster marked in a reusable buffer: whether a joint
 /// is in it is one lookup, not a binary search (and no allocation).
-struct JointMarks {
+pub(crate) struct JointMarks {
     /// `stamp[j] == round`: joint j is in the marked cluster.
     stamp: Vec<u32>,
     round: u32,
 }
 
 impl JointMarks {
-    fn new(n_joints: usize) -> Self {
+    pub(crate) fn new(n_joints: usize) -> Self {
         JointMarks { stamp: vec![0; n_joints], round: 0 }
     }
 
     /// Mark exactly `joints` (forgetting the previous marks).
-    fn set(&mut self, joints: &[usize]) {
+    pub(crate) fn set(&mut self, joints: &[usize]) {
         self.round += 1;
         for &j in joints {
             self.stamp[j] = self.round;
         }
     }
 
-    fn has(&self, joint: usize) -> bool {
+    pub(crate) fn has(&self, joint: usize) -> bool {
         self.stamp[joint] == self.round
     }
 }
@@ -581,22 +581,13 @@ pub fn bars_within_bodies(linkage: &Linkage) -> Vec<BodyBar> {
     // The bodies holding each joint, ascending (one pass over the bodies,
     // not a search of every body for every bar: a crank body holds a
     // Strandbeest's every leg).
-    let mut start = vec![0usize; linkage.n_joints() + 1];
-    for &j in linkage.bodies.iter().flatten() {
-        start[j + 1] += 1;
-    }
-    for j in 0..linkage.n_joints() {
-        start[j + 1] += start[j];
-    }
-    let mut fill = start.clone();
-    let mut bodies_at = vec![0usize; start[linkage.n_joints()]];
+    let mut bodies_at: Vec<Vec<usize>> = vec![Vec::new(); linkage.n_joints()];
     for (i, body) in linkage.bodies.iter().enumerate() {
         for &j in body {
-            bodies_at[fill[j]] = i;
-            fill[j] += 1;
+            bodies_at[j].push(i);
         }
     }
-    let at = |j: usize| &bodies_at[start[j]..start[j + 1]];
+    let at = |j: usize| &bodies_at[j];
     for (bar, b) in linkage.bars.iter().enumerate() {
         let [p, q] = b.joints;
         if let Some(&body) = at(p).iter().find(|i| at(q).contains(i)) {
