@@ -1,15 +1,17 @@
 //! Low Cayley complexity by the four-cycle test, and the complete Cayley
-//! vector (THEORY.md §3). About linear in the number of steps where every
-//! joint is in a few clusters: the built clusters holding a joint are kept
-//! per joint, and a cluster's build position is stored, not searched. At a
-//! hub (a Strandbeest's pivot, held by every leg) each step reads the
-//! clusters built there, once, not once per cluster on its other base joint.
+//! vector (THEORY.md §3). About linear in the number of steps: the built
+//! clusters holding a joint are kept per joint, and a cluster's build
+//! position is stored, not searched. At a hub (a Strandbeest's pivot, held
+//! by every leg) a step meets the clusters there through the joints of its
+//! few clusters on the other side, or continues reading them where it last
+//! stopped against the same cluster (a crank body holding every crank tip):
+//! it never reads every cluster at the hub again.
 //!
 //! Determinism: when several valid pairs of built clusters carry a step, the
 //! pair built earliest is used (smallest index of its later-built cluster,
 //! then of its earlier one).
 
-use crate::decompose::{ClusterSet, Decomposition, JointMarks};
+use crate::decompose::{ClusterSet, Decomposition};
 use crate::inthash::{IntMap, int_map};
 
 /// Why a pair of clusters is valid (adjacent in a four-cycle of clusters).
@@ -96,7 +98,7 @@ pub fn four_cycle_test(dec: &Decomposition) -> Complexity {
         if k > 0 && failure.is_none() {
             let (us, ws) = (&holding_joint[step.u], &holding_joint[step.w]);
             // Only pairs hinged at one joint can carry the step or close a four-cycle.
-            let hinged = pairs.find(clusters, us, ws);
+            let hinged = pairs.find(clusters, &holding_joint, &built_at, [step.u, step.w]);
             let mut best: Option<((usize, usize), Carrier)> = None;
             for &(_, _, tu, tw, x) in hinged {
                 let Some(&origin) = valid.get(&key(tu, tw)) else { continue };
@@ -149,30 +151,62 @@ pub fn four_cycle_test(dec: &Decomposition) -> Complexity {
     Complexity { low: failure.is_none(), ccv, carriers, failure }
 }
 
-/// The pairs of clusters `(tu, tw)`, `tu` from one list and `tw` from
-/// another, that share exactly one joint, with that joint, in the order of
-/// a loop over the first list and, inside it, the second (the order the
-/// test's choices depend on). Buffers are kept from step to step.
+/// The pairs of clusters `(tu, tw)`, `tu` built at joint u and `tw` at
+/// joint w, that share exactly one joint, with that joint, in the order of
+/// a loop over u's clusters and, inside it, w's (the order the test's
+/// choices depend on). Buffers and reads are kept from step to step.
 struct SingleSharedPairs {
-    /// The joints of the cluster marked last (made on first use).
-    marks: Option<JointMarks>,
-    /// (position in the first list, position in the second, tu, tw, joint).
+    /// (position at u, position at w, tu, tw, joint).
     found: Vec<(usize, usize, usize, usize, usize)>,
+    /// Per (joint, cluster): how many of the clusters at the joint were read
+    /// against the cluster, and the hinged ones among them (position,
+    /// shared joint). A joint's clusters only grow, in build order, so a
+    /// second read starts where the first stopped.
+    read: IntMap<(usize, usize), Read>,
+    /// Scratch: (cluster, joint) met through a cluster's joints.
+    met: Vec<(usize, usize)>,
+    /// Scratch: one cluster's hinged partners (position, joint).
+    partners: Vec<(usize, usize)>,
+    /// How often each way was taken: [through joints, by reading].
+    #[cfg(test)]
+    ways: [usize; 2],
+}
+
+/// What [`SingleSharedPairs::read`] keeps for one (joint, cluster).
+#[derive(Default)]
+struct Read {
+    seen: usize,
+    hinged: Vec<(usize, usize)>,
 }
 
 impl SingleSharedPairs {
     fn new() -> Self {
-        SingleSharedPairs { marks: None, found: Vec::new() }
+        SingleSharedPairs {
+            found: Vec::new(),
+            read: IntMap::default(),
+            met: Vec::new(),
+            partners: Vec::new(),
+            #[cfg(test)]
+            ways: [0, 0],
+        }
     }
 
-    /// The hinged pairs of `us` × `ws` as (·, ·, tu, tw, joint). A few pairs
-    /// are compared directly. Otherwise each cluster of the list with fewer
-    /// joints in all is marked in turn and the other list's clusters are
-    /// read against it: a hub's many small clusters are read once per
-    /// cluster on the other side (a few), and a big cluster (a crank body)
-    /// is never merged joint by joint with each of them.
-    fn find(&mut self, clusters: &ClusterSet, us: &[usize], ws: &[usize]) -> &[(usize, usize, usize, usize, usize)] {
+    /// The hinged pairs of the clusters built at `u` and at `w`
+    /// (`holding[j]`: the clusters built at joint j, in build order;
+    /// `rank`: each cluster's build position). A few pairs are compared
+    /// directly. Otherwise each cluster of the shorter list is met with
+    /// the longer one ([`Self::partners_at`]): at a hub (a Strandbeest's
+    /// pivot, held by every leg) a step reads only its few clusters on the
+    /// other side, not every cluster at the hub.
+    fn find(
+        &mut self,
+        clusters: &ClusterSet,
+        holding: &[Vec<usize>],
+        rank: &[usize],
+        [u, w]: [usize; 2],
+    ) -> &[(usize, usize, usize, usize, usize)] {
         self.found.clear();
+        let (us, ws) = (&holding[u], &holding[w]);
         if us.len() * ws.len() <= DIRECT_PAIRS {
             for (ui, &tu) in us.iter().enumerate() {
                 for (wi, &tw) in ws.iter().enumerate() {
@@ -183,28 +217,83 @@ impl SingleSharedPairs {
             }
             return &self.found;
         }
-        let marks = self.marks.get_or_insert_with(|| JointMarks::new(clusters.n_joints()));
-        let size = |list: &[usize]| list.iter().map(|&c| clusters.nodes[c].joints.len()).sum::<usize>();
-        let marked_us = size(us) + us.len() * size(ws) < size(ws) + ws.len() * size(us);
-        let (marked, read) = if marked_us { (us, ws) } else { (ws, us) };
-        for (mi, &m) in marked.iter().enumerate() {
-            marks.set(&clusters.nodes[m].joints);
-            for (ri, &r) in read.iter().enumerate() {
-                // r's joints ascend, so the first shared one is the smallest (as `single_shared` gives).
-                let mut shared = clusters.nodes[r].joints.iter().filter(|&&j| marks.has(j));
-                let (Some(&joint), None) = (shared.next(), shared.next()) else { continue };
-                let (ui, wi, tu, tw) = if marked_us { (mi, ri, m, r) } else { (ri, mi, r, m) };
-                self.found.push((ui, wi, tu, tw, joint));
+        let short_at_w = ws.len() <= us.len();
+        let (short, long_at) = if short_at_w { (ws, u) } else { (us, w) };
+        let mut partners = std::mem::take(&mut self.partners);
+        for (si, &s) in short.iter().enumerate() {
+            self.partners_at(clusters, holding, rank, s, long_at, &mut partners);
+            for &(li, joint) in &partners {
+                let l = holding[long_at][li];
+                let pair = if short_at_w { (li, si, l, s, joint) } else { (si, li, s, l, joint) };
+                self.found.push(pair);
             }
         }
-        if !marked_us {
-            self.found.sort_unstable();
-        }
+        self.partners = partners;
+        self.found.sort_unstable();
         &self.found
+    }
+
+    /// The clusters built at joint `at` that share exactly one joint with
+    /// cluster `s`, as (position at `at`, joint), into `out`. Found through
+    /// `s`'s joints (the clusters at each that also hold `at`) where those
+    /// are fewer than the clusters at `at`; otherwise by reading the clusters at `at` against `s`,
+    /// continuing an earlier read of the same pair (a hub's list against
+    /// a big cluster, a crank body, asked at every leg).
+    fn partners_at(
+        &mut self,
+        clusters: &ClusterSet,
+        holding: &[Vec<usize>],
+        rank: &[usize],
+        s: usize,
+        at: usize,
+        out: &mut Vec<(usize, usize)>,
+    ) {
+        out.clear();
+        let list = &holding[at];
+        let joints = &clusters.nodes[s].joints;
+        // A pair read before is read on (its count of the clusters through
+        // `s`'s joints, a crank body's thousands, is not made again). Else
+        // through the joints where the clusters there are fewer than at
+        // `at`, counted only that far. (Where `s` holds `at`, every cluster
+        // there shares it with `s`: the count reaches them all.)
+        let through = !self.read.contains_key(&(at, s)) && {
+            let mut count = 0;
+            joints.iter().all(|&j| {
+                count += holding[j].len();
+                count < list.len()
+            })
+        };
+        #[cfg(test)]
+        {
+            self.ways[usize::from(!through)] += 1;
+        }
+        if through {
+            // A cluster at `at` met through exactly one of s's joints shares only that one.
+            self.met.clear();
+            for &j in joints {
+                self.met.extend(holding[j].iter().filter(|&&c| clusters.contains(c, at)).map(|&c| (c, j)));
+            }
+            self.met.sort_unstable();
+            for run in self.met.chunk_by(|a, b| a.0 == b.0) {
+                if let [(c, joint)] = *run {
+                    let position = list.binary_search_by_key(&rank[c], |&x| rank[x]).expect("built at `at`");
+                    out.push((position, joint));
+                }
+            }
+            return;
+        }
+        let read = self.read.entry((at, s)).or_default();
+        for (position, &c) in list.iter().enumerate().skip(read.seen) {
+            if let Some(joint) = clusters.single_shared(c, s) {
+                read.hinged.push((position, joint));
+            }
+        }
+        read.seen = list.len();
+        out.extend_from_slice(&read.hinged);
     }
 }
 
-/// Pairs of clusters compared directly (below, marking costs more than it saves).
+/// Pairs of clusters compared directly (below, a search costs more than it saves).
 const DIRECT_PAIRS: usize = 16;
 
 /// For a step past the failing one: a built joint other than `u`, `w`, so
@@ -237,9 +326,11 @@ mod tests {
     use crate::linkage::Linkage;
     use crate::scene::parse_scene;
 
-    /// Marking finds the hinged pairs that comparing every pair finds, in
-    /// the same order, whichever list it marks: on clusters round a hub
-    /// (joint 0, in many small clusters) and a big cluster (joints 10–29).
+    /// The pair search finds the hinged pairs that comparing every pair
+    /// finds, in the same order, both through a cluster's joints and by
+    /// reading (continued as the lists grow): on clusters round a hub
+    /// (joint 0, in many small clusters), a big cluster (joints 10–29) and
+    /// a cluster holding the hub and one of the big cluster's joints.
     #[test]
     fn hinged_pairs_are_those_of_every_pair_compared() {
         let mut text = String::from("bars = [\n");
@@ -252,37 +343,38 @@ mod tests {
         }
         let linkage = Linkage::from_scene(&parse_scene(&text, "hub.toml", "hub").unwrap());
         let mut set = ClusterSet::initial(&linkage);
-        set.add((10..30).collect(), Origin::Base);
-        for j in 1..25 {
-            set.add(vec![0, j, j + 1], Origin::Base);
-        }
-        for j in 0..8 {
-            set.add(vec![15, j], Origin::Base);
-        }
-        let holding = |j: usize| (0..set.nodes.len()).filter(|&c| set.nodes[c].joints.contains(&j)).collect::<Vec<_>>();
-        let size = |list: &[usize]| list.iter().map(|&c| set.nodes[c].joints.len()).sum::<usize>();
+        let mut added: Vec<Vec<usize>> = vec![(10..30).collect()];
+        added.extend((1..25).map(|j| vec![0, j, j + 1]));
+        added.extend((0..8).map(|j| vec![15, j]));
+        added.push(vec![0, 3, 12]);
         let mut pairs = SingleSharedPairs::new();
-        let mut marked = [0, 0];
-        for a in 0..30 {
-            for b in 0..30 {
-                let (us, ws) = (holding(a), holding(b));
-                let direct: Vec<_> = us
-                    .iter()
-                    .enumerate()
-                    .flat_map(|(ui, &tu)| {
-                        let set = &set;
-                        ws.iter()
-                            .enumerate()
-                            .filter_map(move |(wi, &tw)| set.single_shared(tu, tw).map(|j| (ui, wi, tu, tw, j)))
-                    })
-                    .collect();
-                assert_eq!(pairs.find(&set, &us, &ws), &direct[..], "joints {a} and {b}");
-                if us.len() * ws.len() > DIRECT_PAIRS {
-                    let marks_us = size(&us) + us.len() * size(&ws) < size(&ws) + ws.len() * size(&us);
-                    marked[usize::from(marks_us)] += 1;
+        let n_added = added.len();
+        for (i, joints) in added.into_iter().enumerate() {
+            set.add(joints, Origin::Base);
+            // Ask after every fourth cluster: later asks continue earlier reads.
+            if i % 4 != 3 && i + 1 != n_added {
+                continue;
+            }
+            let holding: Vec<Vec<usize>> =
+                (0..30).map(|j| (0..set.nodes.len()).filter(|&c| set.nodes[c].joints.contains(&j)).collect()).collect();
+            let rank: Vec<usize> = (0..set.nodes.len()).collect();
+            for a in 0..30 {
+                for b in 0..30 {
+                    let (us, ws) = (&holding[a], &holding[b]);
+                    let direct: Vec<_> = us
+                        .iter()
+                        .enumerate()
+                        .flat_map(|(ui, &tu)| {
+                            let set = &set;
+                            ws.iter()
+                                .enumerate()
+                                .filter_map(move |(wi, &tw)| set.single_shared(tu, tw).map(|j| (ui, wi, tu, tw, j)))
+                        })
+                        .collect();
+                    assert_eq!(pairs.find(&set, &holding, &rank, [a, b]), &direct[..], "joints {a} and {b}, {i}");
                 }
             }
         }
-        assert!(marked.iter().all(|&n| n > 0), "each list marked somewhere: {marked:?}");
+        assert!(pairs.ways.iter().all(|&n| n > 0), "each way taken somewhere: {:?}", pairs.ways);
     }
 }

@@ -333,7 +333,7 @@ impl ClusterSet {
         sorted_intersection(&self.nodes[a].joints, &self.nodes[b].joints)
     }
 
-    fn contains(&self, id: usize, joint: usize) -> bool {
+    pub(crate) fn contains(&self, id: usize, joint: usize) -> bool {
         self.nodes[id].joints.binary_search(&joint).is_ok()
     }
 
