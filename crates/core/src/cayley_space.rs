@@ -484,21 +484,23 @@ impl<T: Real> Sweep<'_, T> {
         let (lo, hi) = (piece.lo.lambda, piece.hi.lambda);
         let mut roots = Vec::new();
         for (ki, &kind) in self.cert.kinds(k).iter().enumerate() {
-            let t = self.target(k, kind);
-            let candidates: Vec<T> = match &self.exact[k] {
-                Some(c) => c[ki].iter().copied().filter(|&x| x > lo && x < hi).collect(),
-                None => self.numeric_roots(k, bits, piece, t).into_iter().filter(|&x| x > lo && x < hi).collect(),
+            let numeric;
+            let candidates: &[T] = match &self.exact[k] {
+                Some(c) => &c[ki],
+                None => {
+                    numeric = self.numeric_roots(k, bits, piece, self.target(k, kind));
+                    &numeric
+                }
             };
             let at_ends = [(lo, At::Lo, ends[0][ki]), (hi, At::Hi, ends[1][ki])];
             // Where step k is proven flat at an end, a candidate a few ulps
             // inside is that same root computed another way, not a new one.
             let ulps = |x: T| T::from_f64(tolerance::SAME_ROOT_ULPS * T::UNIT_ROUNDOFF) * x.abs();
-            let candidates: Vec<T> = candidates
-                .into_iter()
-                .filter(|&x| !at_ends.iter().any(|&(e, _, sign)| sign == Sign::Zero && (x - e).abs() <= ulps(e)))
-                .collect();
+            let beside_flat_end =
+                |x: T| at_ends.iter().any(|&(e, _, sign)| sign == Sign::Zero && (x - e).abs() <= ulps(e));
+            let inside = candidates.iter().copied().filter(|&x| x > lo && x < hi && !beside_flat_end(x));
             let flat_ends = at_ends.into_iter().filter(|e| e.2 == Sign::Zero).map(|(x, at, _)| (x, at));
-            for (lambda, at) in candidates.into_iter().map(|x| (x, At::Inside)).chain(flat_ends) {
+            for (lambda, at) in inside.map(|x| (x, At::Inside)).chain(flat_ends) {
                 // Value and slope (the jet's, bit for bit); the curvature
                 // only at a tangency.
                 let Some(d) = self.slope_distance(k, bits, lambda) else { continue };
