@@ -238,7 +238,10 @@ impl SingleSharedPairs {
     /// `s`'s joints (the clusters at each that also hold `at`) where those
     /// are fewer than the clusters at `at`; otherwise by reading the clusters at `at` against `s`,
     /// continuing an earlier read of the same pair (a hub's list against
-    /// a big cluster, a crank body, asked at every leg).
+    /// a big cluster, a crank body, asked at every leg). A cluster holding
+    /// `at` itself shares it with every cluster there; its read is not kept
+    /// (the answer is as long as the list, and kept answers of that size
+    /// would grow with the square of the hub).
     fn partners_at(
         &mut self,
         clusters: &ClusterSet,
@@ -280,6 +283,13 @@ impl SingleSharedPairs {
                     out.push((position, joint));
                 }
             }
+            return;
+        }
+        if clusters.contains(s, at) {
+            // Every cluster at `at` shares it with `s`: the answer is about
+            // as long as the list, so it is read afresh, not kept.
+            let hinged = list.iter().enumerate().filter_map(|(i, &c)| Some((i, clusters.single_shared(c, s)?)));
+            out.extend(hinged);
             return;
         }
         let read = self.read.entry((at, s)).or_default();
