@@ -236,12 +236,13 @@ impl SingleSharedPairs {
     /// The clusters built at joint `at` that share exactly one joint with
     /// cluster `s`, as (position at `at`, joint), into `out`. Found through
     /// `s`'s joints (the clusters at each that also hold `at`) where those
-    /// are fewer than the clusters at `at`; otherwise by reading the clusters at `at` against `s`,
-    /// continuing an earlier read of the same pair (a hub's list against
-    /// a big cluster, a crank body, asked at every leg). A cluster holding
-    /// `at` itself shares it with every cluster there; its read is not kept
-    /// (the answer is as long as the list, and kept answers of that size
-    /// would grow with the square of the hub).
+    /// are fewer than the clusters at `at`; otherwise by reading the
+    /// clusters at `at` against `s`, continuing an earlier read of the same
+    /// pair (a hub's list against a big cluster, a crank body, asked at
+    /// every leg). A cluster holding `at` itself shares it with every
+    /// cluster there; its read is not kept (the answer is as long as the
+    /// list, and kept answers of that size would grow with the square of
+    /// the hub).
     fn partners_at(
         &mut self,
         clusters: &ClusterSet,

@@ -135,26 +135,26 @@ impl Memberships {
 
 /// The joints of one cluster marked in a reusable buffer: whether a joint
 /// is in it is one lookup, not a binary search (and no allocation).
-pub(crate) struct JointMarks {
+struct JointMarks {
     /// `stamp[j] == round`: joint j is in the marked cluster.
     stamp: Vec<u32>,
     round: u32,
 }
 
 impl JointMarks {
-    pub(crate) fn new(n_joints: usize) -> Self {
+    fn new(n_joints: usize) -> Self {
         JointMarks { stamp: vec![0; n_joints], round: 0 }
     }
 
     /// Mark exactly `joints` (forgetting the previous marks).
-    pub(crate) fn set(&mut self, joints: &[usize]) {
+    fn set(&mut self, joints: &[usize]) {
         self.round += 1;
         for &j in joints {
             self.stamp[j] = self.round;
         }
     }
 
-    pub(crate) fn has(&self, joint: usize) -> bool {
+    fn has(&self, joint: usize) -> bool {
         self.stamp[joint] == self.round
     }
 }
