@@ -286,14 +286,10 @@ impl SingleSharedPairs {
             }
             return;
         }
-        if clusters.contains(s, at) {
-            // Every cluster at `at` shares it with `s`: the answer is about
-            // as long as the list, so it is read afresh, not kept.
-            let hinged = list.iter().enumerate().filter_map(|(i, &c)| Some((i, clusters.single_shared(c, s)?)));
-            out.extend(hinged);
-            return;
-        }
-        let read = self.read.entry((at, s)).or_default();
+        // Where `s` holds `at`, every cluster there shares it with `s`: the
+        // answer is about as long as the list, so it is read afresh, not kept.
+        let mut afresh = Read::default();
+        let read = if clusters.contains(s, at) { &mut afresh } else { self.read.entry((at, s)).or_default() };
         for (position, &c) in list.iter().enumerate().skip(read.seen) {
             if let Some(joint) = clusters.single_shared(c, s) {
                 read.hinged.push((position, joint));
