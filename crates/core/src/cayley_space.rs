@@ -935,7 +935,7 @@ pub fn union<T: Real>(intervals: &[OrientedInterval<T>], scale: f64) -> Vec<[f64
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::complexity::four_cycle_test;
     use crate::decompose::decompose;
@@ -944,7 +944,7 @@ mod tests {
     /// The Peaucellier inversor: step 4 reads steps 2 and 3 only, so the
     /// types differing in bit 1 repeat its refinements; a rhombus, so they
     /// include coincident ends, degenerate gaps and a touch.
-    const PEAUCELLIER: &str = r#"
+    pub(crate) const PEAUCELLIER: &str = r#"
 base = ["O", "C"]
 bars = [["O", "A", 2.0], ["A", "C", 2.0], ["O", "B", 5.0], ["O", "D", 5.0],
         ["C", "B", 3.0], ["B", "P", 3.0], ["P", "D", 3.0], ["D", "C", 3.0]]

@@ -102,10 +102,14 @@ type BracketKey = ([u64; 2], Event, u128, bool);
 /// the midpoint of a gap in a piece that survives a step) for the type
 /// prefix of bits 1..k, then for 1..k+1 with each value of bit k: each
 /// question places only the steps past the longest prefix already realized
-/// there. The positions are those a realization from scratch gives (the
-/// same operations in the same order), so no answer changes. The same for
-/// the double-double plain values that questions at exact zeros read (no
-/// ball proves a zero; non-generic scenes ask many at one end).
+/// there. A step flat at the place is placed at height zero whichever its
+/// bit, so prefixes that differ only in such bits share it (Watt 4%,
+/// Peaucellier 2% fewer instructions). The positions are those a
+/// realization from scratch gives (the same operations in the same order,
+/// up to the sign of a zero coordinate, which no comparison tells apart),
+/// so no answer changes. The same for the double-double plain values that
+/// questions at exact zeros read (no ball proves a zero; non-generic scenes
+/// ask many at one end).
 #[derive(Debug, Default)]
 pub struct Prefixes {
     balls: Kept<Ball<f64>>,
@@ -218,7 +222,7 @@ impl<T: Real + PlaceBits> Kept<T> {
         let levels = &mut self.levels[block][at * size..(at + 1) * size];
         let distances = &mut self.distances[block][at * steps..(at + 1) * steps];
         let asked = prefix_word(bits, upto).expect("upto < 128");
-        let common = ((place.bits ^ asked).trailing_zeros() as usize).min(place.placed).min(upto);
+        let common = (((place.bits ^ asked) & !flat).trailing_zeros() as usize).min(place.placed).min(upto);
         place.placed = common;
         let tol = tolerance::FEASIBLE * con.scale;
         // Later questions at this place build on these levels: place what any step reads.
@@ -1049,5 +1053,48 @@ impl Certifier {
             last = size;
         }
         x
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::cayley_space::{Method, cayley_space, tests::PEAUCELLIER};
+    use crate::complexity::four_cycle_test;
+    use crate::decompose::decompose;
+
+    /// Kept prefixes give the distances a fresh realization gives, at every
+    /// interval end of Peaucellier's inversor on every base, for every type
+    /// asked in two orders: each question cuts or extends the kept prefix,
+    /// across the bits of the steps flat there (shared) and of the others.
+    #[test]
+    fn kept_distances_are_the_fresh_ones() {
+        let scene = crate::scene::parse_scene(PEAUCELLIER, "test", "peaucellier").expect("parses");
+        let linkage = Linkage::from_scene(&scene);
+        let first = decompose(&linkage, None).expect("in the class").expect("a base");
+        let mut flat_before_last = 0;
+        for base in std::iter::once(first.base).chain(first.other_bases(&linkage)) {
+            let dec = decompose(&linkage, Some(base)).expect("in the class").expect("valid base");
+            let con = Construction::<f64>::new(&linkage, &dec).expect("closes");
+            let cert = Certifier::new(&linkage, &dec).expect("closes");
+            let space = cayley_space(&con, &cert, &con.convert(), &dec, &four_cycle_test(&dec), Method::Exact);
+            let balls = &cert.built.f64_balls;
+            let n = con.steps.len();
+            let mut kept = Kept::default();
+            for end in space.intervals.iter().flat_map(|iv| [&iv.lower, &iv.upper]) {
+                let mask = flat_mask(&end.events).expect("few steps");
+                let flat: Vec<usize> = end.events.iter().map(|e| e.step).collect();
+                flat_before_last += usize::from(flat.iter().any(|&s| s + 1 < n));
+                let lambda = Ball::exact(end.lambda);
+                for code in (0..1usize << n).chain((0..1usize << n).rev()) {
+                    let bits: Vec<bool> = (0..n).map(|i| code >> i & 1 == 1).collect();
+                    let fresh = balls.base_distances_flat(lambda, &bits, n - 1, &flat);
+                    let got = kept.distances(balls, lambda, &bits, n - 1, mask);
+                    let parts = |d: &[Ball<f64>]| d.iter().map(|b| (b.m, b.r)).collect::<Vec<_>>();
+                    assert_eq!(parts(got), parts(&fresh), "base {base:?} at {} type {bits:?}", end.lambda);
+                }
+            }
+        }
+        assert!(flat_before_last > 0, "some end has a flat step that a later step builds on");
     }
 }

@@ -110,11 +110,23 @@ enum TypeKey {
 }
 
 impl TypeKey {
-    /// The key of `ty`, with bit `flip` flipped.
-    fn of(ty: &RealizationType, flip: Option<usize>) -> TypeKey {
+    /// The key of `ty`.
+    fn of(ty: &RealizationType) -> TypeKey {
         match crate::realize::bits_word(&ty.0) {
-            Some(packed) => TypeKey::Packed(flip.map_or(packed, |k| packed ^ (1 << k))),
-            None => TypeKey::Bits(flip.map_or_else(|| ty.0.clone(), |k| ty.flipped(k).0)),
+            Some(packed) => TypeKey::Packed(packed),
+            None => TypeKey::Bits(ty.0.clone()),
+        }
+    }
+
+    /// This key with bit `k` flipped.
+    fn flipped(&self, k: usize) -> TypeKey {
+        match self {
+            TypeKey::Packed(packed) => TypeKey::Packed(packed ^ (1 << k)),
+            TypeKey::Bits(bits) => {
+                let mut bits = bits.clone();
+                bits[k] = !bits[k];
+                TypeKey::Bits(bits)
+            }
         }
     }
 }
@@ -128,11 +140,12 @@ pub fn components(space: &CayleySpace<f64>) -> Components {
     // map holds the first and last end of each chain, `next` links them (end
     // `2i` is interval i's lower, `2i + 1` its upper; no list per key).
     let slot = |i: usize, side: Side| 2 * i + usize::from(side == Side::Upper);
+    let keys: Vec<TypeKey> = ivs.iter().map(|iv| TypeKey::of(&iv.ty)).collect();
     let mut chains: IntMap<(usize, Side, TypeKey), (usize, usize)> = int_map(2 * ivs.len());
     let mut next = vec![usize::MAX; 2 * ivs.len()];
     for (i, iv) in ivs.iter().enumerate() {
         for side in [Side::Lower, Side::Upper] {
-            match chains.entry((end(iv, side).id, side, TypeKey::of(&iv.ty, None))) {
+            match chains.entry((end(iv, side).id, side, keys[i].clone())) {
                 Entry::Occupied(mut e) => {
                     let (_, last) = e.get_mut();
                     next[*last] = slot(i, side);
@@ -155,7 +168,7 @@ pub fn components(space: &CayleySpace<f64>) -> Components {
         // several bits would join components on some bases and not on
         // others; the realization space must not depend on the base.
         for ev in &e.events {
-            let key = (e.id, entered, TypeKey::of(&ivs[i].ty, Some(ev.step)));
+            let key = (e.id, entered, keys[i].flipped(ev.step));
             let Some(&(first, _)) = chains.get(&key) else { continue };
             let mut at = first;
             while at != usize::MAX {
@@ -174,10 +187,12 @@ pub fn components(space: &CayleySpace<f64>) -> Components {
         flipped_at(i, side, side.other(), out);
         out.retain(|&j| ivs[j].lower.lambda != ivs[j].upper.lambda);
     };
-    let (mut options, mut beyond) = (Vec::new(), Vec::new());
+    // Work lists made once (a component's own lists are copied from `seq`).
+    let (mut options, mut beyond) = (Vec::with_capacity(4), Vec::with_capacity(4));
+    let (mut seq, mut behind) = (Vec::new(), Vec::new());
     let mut passes_touch = false;
     let mut of_interval = vec![usize::MAX; ivs.len()];
-    let mut list = Vec::new();
+    let mut list = Vec::with_capacity(ivs.len());
     let mut branch_points = Vec::new();
     for start in 0..ivs.len() {
         if of_interval[start] != usize::MAX {
@@ -185,7 +200,8 @@ pub fn components(space: &CayleySpace<f64>) -> Components {
         }
         let c = list.len();
         of_interval[start] = c;
-        let mut seq = vec![(start, true)];
+        seq.clear();
+        seq.push((start, true));
         let mut closed = false;
         // Walk upward from the start's upper end.
         let (mut cur, mut leaving) = (start, Side::Upper);
@@ -221,15 +237,22 @@ pub fn components(space: &CayleySpace<f64>) -> Components {
             leaving = leaving.other();
         }
         if !closed {
-            // An open chain: collect what lies behind the start as well.
+            // An open chain: collect what lies behind the start as well
+            // (nearest first, then put before the rest in reverse).
             let (mut cur, mut leaving) = (start, Side::Lower);
+            behind.clear();
             loop {
                 partners(cur, leaving, &mut options);
                 let Some(&next) = options.iter().find(|&&j| of_interval[j] == usize::MAX) else { break };
                 of_interval[next] = c;
-                seq.insert(0, (next, leaving == Side::Upper));
+                behind.push((next, leaving == Side::Upper));
                 cur = next;
                 leaving = leaving.other();
+            }
+            if !behind.is_empty() {
+                behind.reverse();
+                behind.append(&mut seq);
+                std::mem::swap(&mut seq, &mut behind);
             }
         }
         let lo = seq.iter().map(|&(i, _)| ivs[i].lower.lambda).fold(f64::INFINITY, f64::min);
