@@ -216,8 +216,19 @@ pub const LAMBDA_RESOLUTION_ULPS: f64 = 8.0;
 /// placed worse than this stays unproven (and is said so).
 pub const END_BRACKET_MAX: f64 = 1e-6;
 
-/// Factor by which the bracket half-width grows between tries in `certify`.
+/// Factor by which the bracket half-width grows between tries in `certify`
+/// where no secant through the last try's slacks says how far to go.
 pub const END_BRACKET_GROWTH: f64 = 16.0;
+
+/// The most a bracket half-width grows between two tries in `certify` on
+/// the secant's estimate: a bound on work (and on how much wider than
+/// needed a bracket can come out), not a decision.
+pub const END_BRACKET_JUMP: f64 = 256.0;
+
+/// How many times over the slack's estimated change across a bracket
+/// should clear its balls' radii (`certify`'s next try): a margin for the
+/// secant's error, not a decision.
+pub const BRACKET_SECANT_MARGIN: f64 = 2.0;
 
 /// Factor by which the bracket half-width grows between tries in
 /// `enclosure` (interval arithmetic, cheaper per try than `certify`'s balls).
