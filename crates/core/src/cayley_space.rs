@@ -212,18 +212,26 @@ struct Sweep<'a, T: Real> {
     touches: Vec<usize>,
     /// Per step: the type bits its base distance depends on (its
     /// ancestors, [`Construction::ancestors`]) as a word; `None` past 128
-    /// steps, or where it depends on every earlier bit (no repeat possible).
+    /// steps, or where no other prefix can repeat its refinements.
     depends: Vec<Option<u128>>,
+    /// No step places a member (every cluster a step stands on is a bar):
+    /// the mirror image of a realization (every bit flipped) has each d_k
+    /// of the original, bit for bit (every operation on a coordinate is odd
+    /// in the y-coordinates and even in the distances; rounding to nearest
+    /// is symmetric), so a prefix's refinements are its mirror's.
+    mirrored: bool,
     /// Refinements by all they depend on (see [`RefineKey`]).
     refined: IntMap<RefineKey, Refined<T>>,
 }
 
 /// What a refinement of a piece by step k depends on: k, the type bits k
-/// depends on, and the piece (its ends by id, first event and flat steps,
-/// and whether it is an isolated point). Two prefixes that differ only in
-/// bits step k does not read have the same d_k at every λ, bit for bit, so
-/// on the same piece the same roots, proofs and pieces: the second is the
-/// first's result, not a second sweep of the same questions.
+/// depends on (of a prefix or, where [`Sweep::mirrored`], of its mirror
+/// image: the smaller word), and the piece (its ends by id, first event and
+/// flat steps, and whether it is an isolated point). Two prefixes that
+/// differ only in bits step k does not read have the same d_k at every λ,
+/// bit for bit, so on the same piece the same roots, proofs and pieces:
+/// the second is the first's result, not a second sweep of the same
+/// questions.
 type RefineKey = (usize, u128, EndKey, EndKey, bool);
 
 /// An end in a [`RefineKey`]: its id, first event (whose bracket the proofs
@@ -342,6 +350,7 @@ fn sweep<T: Real>(
         Method::Numeric { tol, .. } => T::from_f64(tol.max(0.0) * con.scale),
         Method::Exact => T::zero(),
     };
+    let mirrored = con.steps.iter().all(|s| s.members_u.is_empty() && s.members_w.is_empty());
     let mut sweep = Sweep {
         con,
         cert,
@@ -357,7 +366,8 @@ fn sweep<T: Real>(
         slopes: OnceCell::new(),
         slope_positions: RefCell::new(Vec::new()),
         touches: Vec::new(),
-        depends: reads.iter().enumerate().map(|(k, &w)| repeatable(k, w).filter(|_| reuse)).collect(),
+        depends: reads.iter().enumerate().map(|(k, &w)| repeatable(k, w, mirrored).filter(|_| reuse)).collect(),
+        mirrored,
         refined: IntMap::default(),
     };
     // Start from (0, sentinel): every root of the first step lies below the sentinel.
@@ -421,7 +431,8 @@ impl<T: Real> Sweep<'_, T> {
             (e.id, e.events.first().copied(), mask(Kind::Stretched), mask(Kind::Folded))
         };
         let word = bits_word(&bits[..k]).expect("at most 128 steps where repeats are kept");
-        let key = (k, word & depends, end(&piece.lo), end(&piece.hi), piece.touch);
+        let read = if self.mirrored { (word & depends).min(!word & depends) } else { word & depends };
+        let key = (k, read, end(&piece.lo), end(&piece.hi), piece.touch);
         if let Some(done) = self.refined.get(&key) {
             self.notes.extend_from_slice(&done.notes);
             self.cert.count_estimated(done.estimated);
@@ -854,12 +865,13 @@ impl<T: Real> Sweep<'_, T> {
     }
 }
 
-/// `reads`, the bits before step k that d_k depends on, where it leaves
-/// some out (else no prefix can repeat another's refinement; see
-/// [`Sweep::depends`]).
-fn repeatable(k: usize, reads: Option<u128>) -> Option<u128> {
+/// `reads`, the bits before step k that d_k depends on, where another
+/// prefix can repeat a refinement (see [`Sweep::depends`]): where it leaves
+/// some bit out, or, with mirror images sharing refinements (`mirrored`),
+/// past the first step (whose prefix is empty and has no mirror).
+fn repeatable(k: usize, reads: Option<u128>, mirrored: bool) -> Option<u128> {
     let every = if k == 0 { 0 } else { u128::MAX >> (128 - k) };
-    reads.filter(|&w| w != every)
+    reads.filter(|&w| w != every || (mirrored && k > 0))
 }
 
 /// The intervals without the isolated end points (`touches`) that repeat a
@@ -957,43 +969,57 @@ D = [4.899652718047, -0.996696163598]
 P = [4.0, 1.86523063262]
 "#;
 
-    /// On every base: the sweep that repeats refinements gives the
-    /// intervals (types, λ bit for bit, flat steps) and notes of the one
-    /// that refines every prefix afresh, and on some base it does repeat.
+    /// On every base of Peaucellier's inversor (bars only: mirror images
+    /// share refinements) and the Watt six-bar (triangles, whose members
+    /// later steps read: they do not): the sweep that repeats refinements
+    /// gives the intervals (types, λ bit for bit, flat steps), notes and
+    /// components of the one that refines every prefix afresh, and on some
+    /// base it repeats, and on some only through mirror images.
     #[test]
     fn repeated_refinements_are_the_fresh_ones() {
-        let scene = crate::scene::parse_scene(PEAUCELLIER, "test", "peaucellier").expect("parses");
-        let linkage = Linkage::from_scene(&scene);
-        let first = decompose(&linkage, None).expect("in the class").expect("a base");
-        let mut repeating = 0;
-        for base in std::iter::once(first.base).chain(first.other_bases(&linkage)) {
-            let dec = decompose(&linkage, Some(base)).expect("in the class").expect("valid base");
-            let cx = four_cycle_test(&dec);
-            let con = Construction::<f64>::new(&linkage, &dec).expect("closes");
-            let cert = Certifier::new(&linkage, &dec).expect("closes");
-            let plan = SweepPlan::new(&con, &dec, &cx, Method::Exact);
-            let jet = con.convert::<Jet<f64>>();
-            let run = |reuse| sweep(&con, &cert, &jet, plan.clone(), reuse);
-            let (fresh, reused) = (run(false), run(true));
-            let view = |s: &CayleySpace<f64>| {
-                s.intervals
-                    .iter()
-                    .map(|i| {
-                        (
-                            i.ty.clone(),
-                            i.lower.lambda.to_bits(),
-                            i.lower.events.clone(),
-                            i.upper.lambda.to_bits(),
-                            i.upper.events.clone(),
-                        )
-                    })
-                    .collect::<Vec<_>>()
-            };
-            assert!(!fresh.intervals.is_empty(), "base {base:?}");
-            assert_eq!(view(&fresh), view(&reused), "base {base:?}");
-            assert_eq!(fresh.notes, reused.notes, "base {base:?}");
-            repeating += usize::from(plan.reads.iter().enumerate().any(|(k, &w)| repeatable(k, w).is_some()));
+        let (mut repeating, mut mirrored) = (0, 0);
+        for (text, name) in [(PEAUCELLIER, "peaucellier"), (include_str!("../../../linkages/watt.toml"), "watt")] {
+            let scene = crate::scene::parse_scene(text, "test", name).expect("parses");
+            let linkage = Linkage::from_scene(&scene);
+            let first = decompose(&linkage, None).expect("in the class").expect("a base");
+            for base in std::iter::once(first.base).chain(first.other_bases(&linkage)) {
+                let dec = decompose(&linkage, Some(base)).expect("in the class").expect("valid base");
+                let cx = four_cycle_test(&dec);
+                let con = Construction::<f64>::new(&linkage, &dec).expect("closes");
+                let cert = Certifier::new(&linkage, &dec).expect("closes");
+                let plan = SweepPlan::new(&con, &dec, &cx, Method::Exact);
+                let jet = con.convert::<Jet<f64>>();
+                let run = |reuse| sweep(&con, &cert, &jet, plan.clone(), reuse);
+                let (fresh, reused) = (run(false), run(true));
+                let view = |s: &CayleySpace<f64>| {
+                    s.intervals
+                        .iter()
+                        .map(|i| {
+                            (
+                                i.ty.clone(),
+                                i.lower.lambda.to_bits(),
+                                i.lower.events.clone(),
+                                i.upper.lambda.to_bits(),
+                                i.upper.events.clone(),
+                            )
+                        })
+                        .collect::<Vec<_>>()
+                };
+                assert!(!fresh.intervals.is_empty(), "{name} base {base:?}");
+                assert_eq!(view(&fresh), view(&reused), "{name} base {base:?}");
+                assert_eq!(fresh.notes, reused.notes, "{name} base {base:?}");
+                // Shared refinements share endpoint ids: the components are the same.
+                let (a, b) = (crate::motion::components(&fresh), crate::motion::components(&reused));
+                assert_eq!((a.list, a.connected), (b.list, b.connected), "{name} base {base:?}");
+                let reads = plan.reads.iter().enumerate();
+                repeating += usize::from(reads.clone().any(|(k, &w)| repeatable(k, w, false).is_some()));
+                // A step reading every earlier bit, repeated only by the mirror image.
+                let only_mirror = |(k, &w): (usize, &Option<u128>)| repeatable(k, w, false).is_none() && w.is_some();
+                let has_members = con.steps.iter().any(|s| !(s.members_u.is_empty() && s.members_w.is_empty()));
+                mirrored += usize::from(!has_members && reads.filter(|&(k, _)| k > 0).any(only_mirror));
+            }
         }
         assert!(repeating > 0, "some base has a step that does not read every earlier bit");
+        assert!(mirrored > 0, "some base has a step repeated only through mirror images");
     }
 }
