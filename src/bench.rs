@@ -293,7 +293,7 @@ fn full_analysis_by(scene: &crate::scene::Scene, requested: Option<[usize; 2]>, 
     let dec = Arc::new(dec);
     let cx = t.phase("four_cycle", || crate::complexity::four_cycle_test(&dec));
     let built = t.phase("construction", || {
-        let con = Construction::<f64>::new(&linkage, &dec).ok()?;
+        let con = Arc::new(Construction::<f64>::new(&linkage, &dec).ok()?);
         let cert = Certifier::shared(linkage.clone(), dec.clone(), con.clone())?;
         let drawn = crate::realize::drawn_realization(&linkage, &dec);
         Some((con, cert, drawn))

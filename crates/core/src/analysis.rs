@@ -101,8 +101,9 @@ pub struct Solved {
     pub dec: Arc<Decomposition>,
     /// The four-cycle test: low Cayley complexity, the complete Cayley vector, the carriers.
     pub complexity: Complexity,
-    /// The construction in f64: every step's lengths and member placements.
-    pub construction: Construction<f64>,
+    /// The construction in f64: every step's lengths and member placements
+    /// (shared with the certifier).
+    pub construction: Arc<Construction<f64>>,
     /// The construction in proven (ball) arithmetic, for structural decisions.
     pub certifier: Certifier,
     /// Whether mirror images of realizations are realizations too (proven).
@@ -764,6 +765,7 @@ pub fn analyse_checked(
     let complexity = timings.time("four_cycle", || four_cycle_test(&dec));
     let construction = timings
         .time("construction", || Construction::<f64>::new(&linkage, &dec))
+        .map(Arc::new)
         .map_err(|e| scene.error_at(None, e.0))?;
     let certifier = Certifier::shared(linkage.clone(), dec.clone(), construction.clone())
         .expect("the f64 construction succeeded, so the ball ones do");

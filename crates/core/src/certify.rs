@@ -75,7 +75,8 @@ pub struct Certifier {
 #[derive(Debug)]
 struct Built {
     f64_balls: Construction<Ball<f64>>,
-    f64_plain: Construction<f64>,
+    /// Shared with the analysis (no copy).
+    f64_plain: Arc<Construction<f64>>,
     /// The double-double constructions, each built on first use (`None`:
     /// a cluster's stated lengths do not close in double-double). Deciding
     /// equal sides needs only the balls.
@@ -337,12 +338,12 @@ impl Certifier {
     /// The construction in every arithmetic a decision may need; `None` when a cluster's stated lengths do not close.
     pub fn new(linkage: &Linkage, dec: &Decomposition) -> Option<Self> {
         let f64_plain = Construction::new(linkage, dec).ok()?;
-        Self::shared(Arc::new(linkage.clone()), Arc::new(dec.clone()), f64_plain)
+        Self::shared(Arc::new(linkage.clone()), Arc::new(dec.clone()), Arc::new(f64_plain))
     }
 
-    /// [`Self::new`] on a linkage and decomposition the caller keeps too
-    /// (no copy of either), with their f64 construction.
-    pub fn shared(linkage: Arc<Linkage>, dec: Arc<Decomposition>, f64_plain: Construction<f64>) -> Option<Self> {
+    /// [`Self::new`] on a linkage, decomposition and f64 construction the
+    /// caller keeps too (no copy of any).
+    pub fn shared(linkage: Arc<Linkage>, dec: Arc<Decomposition>, f64_plain: Arc<Construction<f64>>) -> Option<Self> {
         let f64_balls: Construction<Ball<f64>> = Construction::new(&linkage, &dec).ok()?;
         let built = Built {
             f64_balls,
