@@ -55,7 +55,7 @@ fn hot_paths(c: &mut Criterion) {
     c.bench_function("Jansen full Cayley space (exact)", |b| {
         b.iter_batched(
             fresh,
-            |cert| cayley_space(con, &cert, &jet, &s.dec, &s.complexity, black_box(Method::Exact)),
+            |cert| cayley_space(con, &cert, &s.dec, &s.complexity, black_box(Method::Exact)),
             BatchSize::SmallInput,
         )
     });
@@ -106,11 +106,10 @@ fn exact_vs_classic(c: &mut Criterion) {
         let Ok(a) = analyse_with(caymos::bundled::load(b.name).expect("bundled"), None, Scope::Full) else { continue };
         let Ok(s) = a.outcome else { continue };
         let con = &s.construction;
-        let jet = con.convert::<Jet<f64>>();
         c.bench_function(&format!("{} Cayley space exact", b.name), |bch| {
             bch.iter_batched(
                 || s.certifier.fork(),
-                |cert| cayley_space(con, &cert, &jet, &s.dec, &s.complexity, black_box(Method::Exact)),
+                |cert| cayley_space(con, &cert, &s.dec, &s.complexity, black_box(Method::Exact)),
                 BatchSize::SmallInput,
             )
         });

@@ -299,8 +299,7 @@ fn full_analysis_by(scene: &crate::scene::Scene, requested: Option<[usize; 2]>, 
         Some((con, cert, drawn))
     });
     let Some((con, cert, _drawn)) = built else { return 0 };
-    let space =
-        t.phase("cayley_space", || cayley_space(&con, &cert, &con.convert::<Jet<f64>>(), &dec, &cx, Method::Exact));
+    let space = t.phase("cayley_space", || cayley_space(&con, &cert, &dec, &cx, Method::Exact));
     let comps = t.phase("components", || {
         black_box(crate::cayley_space::union(&space.intervals, linkage.scale));
         crate::motion::components(&space)
@@ -459,9 +458,9 @@ pub fn bench_scene(a: &Analysis, s: &Solved, repeat: usize) -> (Vec<MethodRow>, 
         return (vec![row], Vec::new());
     }
     let reference = {
-        let (dd, jd) =
-            crate::analysis::reference_constructions(&a.linkage, &s.dec).expect("shapes close in f64, so in dd");
-        spans(&cayley_space(&dd, &s.certifier, &jd, &s.dec, &s.complexity, Method::Exact))
+        let dd: Construction<crate::real::Dd> =
+            Construction::new(&a.linkage, &s.dec).expect("shapes close in f64, so in dd");
+        spans(&cayley_space(&dd, &s.certifier, &s.dec, &s.complexity, Method::Exact))
     };
     let mut rows = Vec::new();
     let methods: [Method; 4] = [
@@ -486,7 +485,7 @@ pub fn bench_scene(a: &Analysis, s: &Solved, repeat: usize) -> (Vec<MethodRow>, 
     // The methods take turns within each repetition, so that every median
     // (and the ratio between two) sees the same machine load.
     // Each run of a method asks a fresh fork of the certifier (see `median_us_each`).
-    let space = |cert: &Certifier, method: Method| cayley_space(con, cert, &jet, &s.dec, &s.complexity, method);
+    let space = |cert: &Certifier, method: Method| cayley_space(con, cert, &s.dec, &s.complexity, method);
     let mut runs: Vec<Run> = methods
         .iter()
         .map(|&method| -> Run {

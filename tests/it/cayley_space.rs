@@ -20,15 +20,8 @@ fn assert_matches_reference(l: &Linkage, s: &Solved) {
 
 /// The closed-form and numeric methods find the same intervals (two independent computations).
 fn assert_methods_agree(l: &Linkage, s: &Solved) {
-    let jet = s.construction.convert::<Jet<f64>>();
-    let numeric = cayley_space(
-        &s.construction,
-        &s.certifier,
-        &jet,
-        &s.dec,
-        &s.complexity,
-        Method::Numeric { samples: 24, tol: 0.0 },
-    );
+    let numeric =
+        cayley_space(&s.construction, &s.certifier, &s.dec, &s.complexity, Method::Numeric { samples: 24, tol: 0.0 });
     assert_eq!(numeric.intervals.len(), s.space.intervals.len(), "interval counts differ");
     for (n, e) in numeric.intervals.iter().zip(&s.space.intervals) {
         assert_eq!(n.ty, e.ty);

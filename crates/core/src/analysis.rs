@@ -214,15 +214,6 @@ fn compare_runs<R: Real>(
     }
 }
 
-/// The scene's construction in double-double and in double-double jets: the
-/// reference arithmetic every accuracy check runs in.
-pub fn reference_constructions(
-    linkage: &Linkage,
-    dec: &Decomposition,
-) -> Option<(Construction<Dd>, Construction<Jet<Dd>>)> {
-    Some((Construction::new(linkage, dec).ok()?, Construction::new(linkage, dec).ok()?))
-}
-
 /// The lazy walk's f64 endpoints refined in double-double from the input as
 /// written, compared with `space` (and, when every end refines, replaced by
 /// the refined values rounded to f64).
@@ -383,8 +374,8 @@ pub fn reference_accuracy(
     cert: &Certifier,
     space: &mut CayleySpace<f64>,
 ) -> Option<Accuracy> {
-    let (con, jet) = reference_constructions(linkage, dec)?;
-    let reference = cayley_space(&con, cert, &jet, dec, cx, space.method);
+    let con: Construction<Dd> = Construction::new(linkage, dec).ok()?;
+    let reference = cayley_space(&con, cert, dec, cx, space.method);
     Some(compare_runs(&reference.intervals, &mut space.intervals, linkage.scale))
 }
 
@@ -800,7 +791,7 @@ pub fn analyse_checked(
     } else {
         timings.time("cayley_space", || {
             let plan = plan.expect("a full analysis has its plan");
-            cayley_space_planned(&construction, &certifier, &construction.convert::<Jet<f64>>(), plan)
+            cayley_space_planned(&construction, &certifier, plan)
         })
     };
     let accuracy = if check == SelfCheck::Skip {

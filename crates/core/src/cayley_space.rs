@@ -190,7 +190,9 @@ struct Root<T> {
 struct Sweep<'a, T: Real> {
     con: &'a Construction<T>,
     cert: &'a Certifier,
-    jet: &'a Construction<Jet<T>>,
+    /// `con` in jets, for a curvature (at a tangency) or the numeric
+    /// search (built on first use: most exact sweeps need neither).
+    jet: OnceCell<Construction<Jet<T>>>,
     /// Per step: closed-form candidates for [stretched, folded], or `None` to search numerically.
     exact: Vec<Option<[Vec<T>; 2]>>,
     samples: usize,
@@ -203,8 +205,9 @@ struct Sweep<'a, T: Real> {
     prefixes: Prefixes,
     /// Joint positions of the last jet realization (reused).
     positions: RefCell<Vec<P2<Jet<T>>>>,
-    /// `jet` without curvatures, for the candidates' slopes (built on first
-    /// use: steps on the base read their jets, cheap there).
+    /// `con` in slopes, for the candidates' slopes: the same numbers as
+    /// `jet`'s values and slopes (built on first use: steps on the base
+    /// read their jets, cheap there).
     slopes: OnceCell<Construction<Slope<T>>>,
     /// Joint positions of the last slope realization (reused).
     slope_positions: RefCell<Vec<P2<Slope<T>>>>,
@@ -316,33 +319,21 @@ impl<T: Real> SweepPlan<T> {
 pub fn cayley_space<T: Real>(
     con: &Construction<T>,
     cert: &Certifier,
-    jet: &Construction<Jet<T>>,
     dec: &Decomposition,
     cx: &Complexity,
     method: Method,
 ) -> CayleySpace<T> {
-    cayley_space_planned(con, cert, jet, SweepPlan::new(con, dec, cx, method))
+    cayley_space_planned(con, cert, SweepPlan::new(con, dec, cx, method))
 }
 
 /// [`cayley_space`] from a plan already made (for its cost).
-pub fn cayley_space_planned<T: Real>(
-    con: &Construction<T>,
-    cert: &Certifier,
-    jet: &Construction<Jet<T>>,
-    plan: SweepPlan<T>,
-) -> CayleySpace<T> {
-    sweep(con, cert, jet, plan, true)
+pub fn cayley_space_planned<T: Real>(con: &Construction<T>, cert: &Certifier, plan: SweepPlan<T>) -> CayleySpace<T> {
+    sweep(con, cert, plan, true)
 }
 
 /// [`cayley_space_planned`], repeating refinements for prefixes that agree
 /// on the bits a step depends on (`reuse`) or refining each afresh.
-fn sweep<T: Real>(
-    con: &Construction<T>,
-    cert: &Certifier,
-    jet: &Construction<Jet<T>>,
-    plan: SweepPlan<T>,
-    reuse: bool,
-) -> CayleySpace<T> {
+fn sweep<T: Real>(con: &Construction<T>, cert: &Certifier, plan: SweepPlan<T>, reuse: bool) -> CayleySpace<T> {
     let n = con.steps.len();
     let samples = plan.samples();
     let SweepPlan { method, exact, numeric_steps, reads } = plan;
@@ -354,7 +345,7 @@ fn sweep<T: Real>(
     let mut sweep = Sweep {
         con,
         cert,
-        jet,
+        jet: OnceCell::new(),
         exact,
         samples,
         root_tol,
@@ -460,7 +451,8 @@ impl<T: Real> Sweep<'_, T> {
         if self.con.on_base(k) {
             return Some(Jet::variable(lambda));
         }
-        base_distance_at(self.jet, &mut self.positions.borrow_mut(), bits, k, Jet::variable(lambda))
+        let jet = self.jet.get_or_init(|| self.con.map(Jet::constant));
+        base_distance_at(jet, &mut self.positions.borrow_mut(), bits, k, Jet::variable(lambda))
     }
 
     /// [`Self::distance`]'s value and slope alone (the same numbers).
@@ -468,7 +460,7 @@ impl<T: Real> Sweep<'_, T> {
         if self.con.on_base(k) {
             return self.distance(k, bits, lambda).map(Jet::slope);
         }
-        let slopes = self.slopes.get_or_init(|| self.jet.map(Jet::slope));
+        let slopes = self.slopes.get_or_init(|| self.con.map(Slope::constant));
         base_distance_at(slopes, &mut self.slope_positions.borrow_mut(), bits, k, Slope::variable(lambda))
     }
 
@@ -988,8 +980,7 @@ P = [4.0, 1.86523063262]
                 let con = Construction::<f64>::new(&linkage, &dec).expect("closes");
                 let cert = Certifier::new(&linkage, &dec).expect("closes");
                 let plan = SweepPlan::new(&con, &dec, &cx, Method::Exact);
-                let jet = con.convert::<Jet<f64>>();
-                let run = |reuse| sweep(&con, &cert, &jet, plan.clone(), reuse);
+                let run = |reuse| sweep(&con, &cert, plan.clone(), reuse);
                 let (fresh, reused) = (run(false), run(true));
                 let view = |s: &CayleySpace<f64>| {
                     s.intervals

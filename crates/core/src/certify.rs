@@ -1112,7 +1112,7 @@ mod tests {
             let dec = decompose(&linkage, Some(base)).expect("in the class").expect("valid base");
             let con = Construction::<f64>::new(&linkage, &dec).expect("closes");
             let cert = Certifier::new(&linkage, &dec).expect("closes");
-            let space = cayley_space(&con, &cert, &con.convert(), &dec, &four_cycle_test(&dec), Method::Exact);
+            let space = cayley_space(&con, &cert, &dec, &four_cycle_test(&dec), Method::Exact);
             let balls = &cert.built.f64_balls;
             let n = con.steps.len();
             let mut kept = Kept::default();
