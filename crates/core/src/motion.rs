@@ -101,33 +101,25 @@ fn end(i: &OrientedInterval<f64>, side: Side) -> &crate::roots::Endpoint<f64> {
     }
 }
 
-/// A realization type as a hash key: packed into an integer up to 128 steps
-/// (no allocation, cheap to hash), the bits themselves beyond.
-#[derive(Clone, Debug, PartialEq, Eq, Hash)]
-enum TypeKey {
-    Packed(u128),
-    Bits(Vec<bool>),
+/// A realization type as a hash key: packed into an integer where every
+/// type fits in 128 steps (no allocation, cheap to hash), the bits
+/// themselves beyond.
+trait TypeKey: Clone + Eq + std::hash::Hash {
+    /// This key with bit `k` flipped.
+    fn flipped(&self, k: usize) -> Self;
 }
 
-impl TypeKey {
-    /// The key of `ty`.
-    fn of(ty: &RealizationType) -> TypeKey {
-        match crate::realize::bits_word(&ty.0) {
-            Some(packed) => TypeKey::Packed(packed),
-            None => TypeKey::Bits(ty.0.clone()),
-        }
+impl TypeKey for u128 {
+    fn flipped(&self, k: usize) -> Self {
+        self ^ (1 << k)
     }
+}
 
-    /// This key with bit `k` flipped.
-    fn flipped(&self, k: usize) -> TypeKey {
-        match self {
-            TypeKey::Packed(packed) => TypeKey::Packed(packed ^ (1 << k)),
-            TypeKey::Bits(bits) => {
-                let mut bits = bits.clone();
-                bits[k] = !bits[k];
-                TypeKey::Bits(bits)
-            }
-        }
+impl TypeKey for Vec<bool> {
+    fn flipped(&self, k: usize) -> Self {
+        let mut bits = self.clone();
+        bits[k] = !bits[k];
+        bits
     }
 }
 
@@ -135,17 +127,27 @@ impl TypeKey {
 /// continues, on the same side of λ, into the type with bit k flipped that
 /// ends at the same root. Every interval lands in exactly one component.
 pub fn components(space: &CayleySpace<f64>) -> Components {
+    let packed: Option<Vec<u128>> = space.intervals.iter().map(|iv| crate::realize::bits_word(&iv.ty.0)).collect();
+    match packed {
+        Some(keys) => components_by(space, &keys),
+        None => components_by(space, &space.intervals.iter().map(|iv| iv.ty.0.clone()).collect::<Vec<_>>()),
+    }
+}
+
+/// [`components`] with each interval's type as `keys[i]`.
+fn components_by<K: TypeKey>(space: &CayleySpace<f64>, keys: &[K]) -> Components {
     let ivs = &space.intervals;
     // Ends with the same (root, side, type), chained in interval order: the
     // map holds the first and last end of each chain, `next` links them (end
-    // `2i` is interval i's lower, `2i + 1` its upper; no list per key).
+    // `2i` is interval i's lower, `2i + 1` its upper; no list per key). A
+    // root and side are one word, 2·id + side.
     let slot = |i: usize, side: Side| 2 * i + usize::from(side == Side::Upper);
-    let keys: Vec<TypeKey> = ivs.iter().map(|iv| TypeKey::of(&iv.ty)).collect();
-    let mut chains: IntMap<(usize, Side, TypeKey), (usize, usize)> = int_map(2 * ivs.len());
+    let at = |id: usize, side: Side| 2 * id + usize::from(side == Side::Upper);
+    let mut chains: IntMap<(usize, K), (usize, usize)> = int_map(2 * ivs.len());
     let mut next = vec![usize::MAX; 2 * ivs.len()];
     for (i, iv) in ivs.iter().enumerate() {
         for side in [Side::Lower, Side::Upper] {
-            match chains.entry((end(iv, side).id, side, keys[i].clone())) {
+            match chains.entry((at(end(iv, side).id, side), keys[i].clone())) {
                 Entry::Occupied(mut e) => {
                     let (_, last) = e.get_mut();
                     next[*last] = slot(i, side);
@@ -168,7 +170,7 @@ pub fn components(space: &CayleySpace<f64>) -> Components {
         // several bits would join components on some bases and not on
         // others; the realization space must not depend on the base.
         for ev in &e.events {
-            let key = (e.id, entered, keys[i].flipped(ev.step));
+            let key = (at(e.id, entered), keys[i].flipped(ev.step));
             let Some(&(first, _)) = chains.get(&key) else { continue };
             let mut at = first;
             while at != usize::MAX {
