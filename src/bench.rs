@@ -458,9 +458,8 @@ pub fn bench_scene(a: &Analysis, s: &Solved, repeat: usize) -> (Vec<MethodRow>, 
         return (vec![row], Vec::new());
     }
     let reference = {
-        let dd: Construction<crate::real::Dd> =
-            Construction::new(&a.linkage, &s.dec).expect("shapes close in f64, so in dd");
-        spans(&cayley_space(&dd, &s.certifier, &s.dec, &s.complexity, Method::Exact))
+        let dd = crate::analysis::reference_space(&a.linkage, &s.dec, &s.complexity, &s.certifier, Method::Exact);
+        spans(&dd.expect("shapes close in f64, so in dd"))
     };
     let mut rows = Vec::new();
     let methods: [Method; 4] = [

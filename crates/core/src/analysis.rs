@@ -374,9 +374,22 @@ pub fn reference_accuracy(
     cert: &Certifier,
     space: &mut CayleySpace<f64>,
 ) -> Option<Accuracy> {
-    let con: Construction<Dd> = Construction::new(linkage, dec).ok()?;
-    let reference = cayley_space(&con, cert, dec, cx, space.method);
+    let reference = reference_space(linkage, dec, cx, cert, space.method)?;
     Some(compare_runs(&reference.intervals, &mut space.intervals, linkage.scale))
+}
+
+/// The Cayley space in double-double from the input as written: the
+/// reference every accuracy figure is measured against. `None` where a
+/// cluster's lengths do not close in double-double.
+pub fn reference_space(
+    linkage: &Linkage,
+    dec: &Decomposition,
+    cx: &Complexity,
+    cert: &Certifier,
+    method: Method,
+) -> Option<CayleySpace<Dd>> {
+    let con: Construction<Dd> = Construction::new(linkage, dec).ok()?;
+    Some(cayley_space(&con, cert, dec, cx, method))
 }
 
 /// A realizable λ of `ty` near `lambda`, for a lazy analysis that has no

@@ -341,7 +341,7 @@ fn sweep<T: Real>(con: &Construction<T>, cert: &Certifier, plan: SweepPlan<T>, r
         Method::Numeric { tol, .. } => T::from_f64(tol.max(0.0) * con.scale),
         Method::Exact => T::zero(),
     };
-    let mirrored = con.steps.iter().all(|s| s.members_u.is_empty() && s.members_w.is_empty());
+    let mirrored = con.places_no_members();
     let mut sweep = Sweep {
         con,
         cert,
@@ -1006,8 +1006,7 @@ P = [4.0, 1.86523063262]
                 repeating += usize::from(reads.clone().any(|(k, &w)| repeatable(k, w, false).is_some()));
                 // A step reading every earlier bit, repeated only by the mirror image.
                 let only_mirror = |(k, &w): (usize, &Option<u128>)| repeatable(k, w, false).is_none() && w.is_some();
-                let has_members = con.steps.iter().any(|s| !(s.members_u.is_empty() && s.members_w.is_empty()));
-                mirrored += usize::from(!has_members && reads.filter(|&(k, _)| k > 0).any(only_mirror));
+                mirrored += usize::from(con.places_no_members() && reads.filter(|&(k, _)| k > 0).any(only_mirror));
             }
         }
         assert!(repeating > 0, "some base has a step that does not read every earlier bit");

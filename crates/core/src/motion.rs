@@ -140,14 +140,13 @@ fn components_by<K: TypeKey>(space: &CayleySpace<f64>, keys: &[K]) -> Components
     // Ends with the same (root, side, type), chained in interval order: the
     // map holds the first and last end of each chain, `next` links them (end
     // `2i` is interval i's lower, `2i + 1` its upper; no list per key). A
-    // root and side are one word, 2·id + side.
+    // root and side are one word the same way, 2·id + side.
     let slot = |i: usize, side: Side| 2 * i + usize::from(side == Side::Upper);
-    let at = |id: usize, side: Side| 2 * id + usize::from(side == Side::Upper);
     let mut chains: IntMap<(usize, K), (usize, usize)> = int_map(2 * ivs.len());
     let mut next = vec![usize::MAX; 2 * ivs.len()];
     for (i, iv) in ivs.iter().enumerate() {
         for side in [Side::Lower, Side::Upper] {
-            match chains.entry((at(end(iv, side).id, side), keys[i].clone())) {
+            match chains.entry((slot(end(iv, side).id, side), keys[i].clone())) {
                 Entry::Occupied(mut e) => {
                     let (_, last) = e.get_mut();
                     next[*last] = slot(i, side);
@@ -170,7 +169,7 @@ fn components_by<K: TypeKey>(space: &CayleySpace<f64>, keys: &[K]) -> Components
         // several bits would join components on some bases and not on
         // others; the realization space must not depend on the base.
         for ev in &e.events {
-            let key = (at(e.id, entered), keys[i].flipped(ev.step));
+            let key = (slot(e.id, entered), keys[i].flipped(ev.step));
             let Some(&(first, _)) = chains.get(&key) else { continue };
             let mut at = first;
             while at != usize::MAX {

@@ -736,6 +736,12 @@ impl<T: Real> Construction<T> {
         (dot(a, b), cross(a, b))
     }
 
+    /// Whether no step places a member (every cluster a step stands on is a
+    /// bar): flipping every bit of a type then mirrors every placed joint.
+    pub fn places_no_members(&self) -> bool {
+        self.steps.iter().all(|s| s.members_u.is_empty() && s.members_w.is_empty())
+    }
+
     /// Whether step `k` stands directly on the base (its base distance is λ).
     pub fn on_base(&self, k: usize) -> bool {
         let s = &self.steps[k];
