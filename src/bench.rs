@@ -391,7 +391,7 @@ pub fn classic_space(con: &Construction<f64>, s: &Solved) -> Option<Vec<Span>> {
     if !s.complexity.low {
         return None;
     }
-    let inv = Inverter { con, dec: &s.dec, cx: &s.complexity };
+    let inv = Inverter::new(con, &s.dec, &s.complexity, None);
     let mut cands: Vec<f64> = Vec::new();
     for (k, st) in con.steps.iter().enumerate() {
         cands.extend(inv.candidates(k, st.r1 + st.r2));

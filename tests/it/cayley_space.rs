@@ -2,14 +2,57 @@
 //! the worked examples of THEORY.md §7, and a double-double reference.
 
 use crate::helpers::*;
-use caymos::analysis::{Analysis, Solved, analyse, reference_accuracy};
+use caymos::analysis::{Analysis, Scope, Solved, analyse, reference_accuracy};
 use caymos::bundled;
-use caymos::cayley_space::{Method, Note, cayley_space};
+use caymos::cayley_space::{CayleySpace, Method, Note, SweepPlan, cayley_space, cayley_space_planned};
 use caymos::generate::{bd_distance, four_bar, four_bar_with_dyad, random_linkage, tangency};
+use caymos::invert::Inverter;
 use caymos::linkage::Linkage;
 use caymos::real::Jet;
 use caymos::realize::{Construction, Kind, slack};
+use caymos::roots::Endpoint;
 use proptest::prelude::*;
+
+/// The type bits a closed-form candidate knows hold for every type with a
+/// root there: realized forward in f64 at the candidate, every prefix whose
+/// step k is flat there (slack within 1e-9 of the scale) is one the
+/// candidate admits. And the sweep that asks each prefix only about the
+/// candidates it admits finds the intervals of the one that asks about
+/// all, λ bit for bit.
+fn assert_known_bits_hold(l: &Linkage, s: &Solved) {
+    let con = &s.construction;
+    let balls = s.certifier.f64_balls();
+    let inverter = Inverter::new(con, &s.dec, &s.complexity, Some(balls));
+    for k in (0..con.steps.len()).filter(|&k| !con.on_base(k)) {
+        let (st, b) = (&con.steps[k], &balls.steps[k]);
+        for kind in [Kind::Stretched, Kind::Folded] {
+            let t = kind.target(st.r1, st.r2);
+            for c in inverter.candidates_known(k, t, Some(kind.target(b.r1, b.r2))) {
+                for word in 0..1u128 << k {
+                    let bits: Vec<bool> = (0..con.steps.len()).map(|i| word >> i & 1 == 1).collect();
+                    let d = con.base_distances(c.lambda, &bits);
+                    let Some(&dk) = d.get(k) else { continue };
+                    if kind.slack_value(st.r1, st.r2, dk).abs() <= 1e-9 * l.scale {
+                        let at = c.lambda;
+                        assert!(
+                            c.known.admits(Some(word)),
+                            "step {k} {kind:?} at {at}: bits {word:b} flat, {:?}",
+                            c.known
+                        );
+                    }
+                }
+            }
+        }
+    }
+    let plan = |cert| SweepPlan::new(con, cert, &s.dec, &s.complexity, Method::Exact);
+    let with_bits = cayley_space_planned(con, &s.certifier.fork(), plan(Some(&s.certifier)));
+    let without = cayley_space_planned(con, &s.certifier.fork(), plan(None));
+    let view = |space: &CayleySpace<f64>| {
+        let end = |e: &Endpoint<f64>| (e.lambda.to_bits(), e.events.clone());
+        space.intervals.iter().map(|i| (i.ty.clone(), end(&i.lower), end(&i.upper))).collect::<Vec<_>>()
+    };
+    assert_eq!(view(&with_bits), view(&without));
+}
 
 /// f64 endpoints within 1e-12 × scale of the double-double reference, same structure.
 fn assert_matches_reference(l: &Linkage, s: &Solved) {
@@ -109,6 +152,18 @@ proptest! {
         con.resume_distances_in(&mut pos, m, &bits, &mut resumed);
         let as_bits = |d: &[f64]| d.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
         prop_assert_eq!(as_bits(&resumed), as_bits(&fresh));
+    }
+
+    /// [`assert_known_bits_hold`] on every valid base of random linkages.
+    #[test]
+    fn known_bits_hold_at_every_root(seed in any::<u64>(), steps in 2usize..7, tri in 0.0f64..0.8) {
+        let scene = random_linkage(seed, steps, tri);
+        let (Analysis { linkage: l, .. }, s) = solve(scene.clone());
+        assert_known_bits_hold(&l, &s);
+        for base in s.dec.other_bases(&l).into_iter().take(6) {
+            let (Analysis { linkage: l, .. }, s) = solve_with(scene.clone(), Some(base), Scope::Full);
+            assert_known_bits_hold(&l, &s);
+        }
     }
 
     /// Scaling a scene scales its intervals and keeps their counts.

@@ -732,7 +732,7 @@ fn a_kite_on_its_diagonal_ends_at_a_proven_degenerate_place() {
 fn f64_only_signs_are_the_general_answers_or_none() {
     use caymos::certify::{At, Prefixes, Sign};
     let (_, s) = solved("limacon");
-    let inv = caymos::invert::Inverter { con: &s.construction, dec: &s.dec, cx: &s.complexity };
+    let inv = caymos::invert::Inverter::new(&s.construction, &s.dec, &s.complexity, None);
     let k = 3;
     let step = &s.construction.steps[k];
     let questions = [(k, Kind::Stretched), (k, Kind::Folded)];

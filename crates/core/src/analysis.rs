@@ -667,7 +667,7 @@ fn full_refused(steps: usize, what: &str, cost: f64) -> String {
 /// walk has no start there).
 fn plan_for(
     scope: Scope,
-    (con, dec, cx): (&Construction<f64>, &Decomposition, &Complexity),
+    (con, cert, dec, cx): (&Construction<f64>, Option<&Certifier>, &Decomposition, &Complexity),
     unreachable_sketch: bool,
 ) -> Result<(Option<SweepPlan<f64>>, Option<f64>), String> {
     let small = dec.steps.len() <= LAZY_ABOVE_STEPS;
@@ -682,7 +682,7 @@ fn plan_for(
         Scope::Full => true,
         Scope::Lazy => unreachable_sketch && small,
     };
-    let Some(plan) = wanted.then(|| SweepPlan::new(con, dec, cx, Method::Exact)) else { return Ok((None, None)) };
+    let Some(plan) = wanted.then(|| SweepPlan::new(con, cert, dec, cx, Method::Exact)) else { return Ok((None, None)) };
     let cost = plan.cost();
     if scope == Scope::Full && cost > crate::tolerance::FULL_COST_MAX {
         return Err(full_refused(dec.steps.len(), "its sweep", cost));
@@ -702,7 +702,7 @@ pub fn auto_scope(scene: &Scene, base_override: Option<[usize; 2]>) -> Scope {
     let linkage = Linkage::from_scene(scene);
     let Ok(Ok(dec)) = decompose(&linkage, base_override.or(scene.base.map(|b| b.0))) else { return Scope::Auto };
     let Ok(con) = Construction::<f64>::new(&linkage, &dec) else { return Scope::Auto };
-    match plan_for(Scope::Auto, (&con, &dec, &four_cycle_test(&dec)), false) {
+    match plan_for(Scope::Auto, (&con, None, &dec, &four_cycle_test(&dec)), false) {
         Ok((Some(_), _)) => Scope::Full,
         _ => Scope::Lazy,
     }
@@ -779,8 +779,9 @@ pub fn analyse_checked(
     // small ones get the full analysis where it is affordable (it relocates
     // the drawing from its intervals), others a sampled search for a start.
     let unreachable_sketch = scene.is_sketch() && construction.realize(drawn.lambda, &drawn.ty).is_err();
-    let (plan, sweep_estimate) = plan_for(scope, (&construction, &dec, &complexity), unreachable_sketch)
-        .map_err(|why| scene.error_at(None, why))?;
+    let (plan, sweep_estimate) =
+        plan_for(scope, (&construction, Some(&certifier), &dec, &complexity), unreachable_sketch)
+            .map_err(|why| scene.error_at(None, why))?;
     let lazy = plan.is_none();
     let mut space = if lazy {
         timings.time("lazy_component", || {

@@ -30,7 +30,7 @@ use crate::certify::{At as Place, Certifier, Closes, Prefixes, Sign};
 use crate::complexity::Complexity;
 use crate::decompose::Decomposition;
 use crate::inthash::IntMap;
-use crate::invert::Inverter;
+use crate::invert::{Candidate, Inverter};
 use crate::real::{Jet, Real, Slope};
 use crate::realize::{Construction, Event, Kind, P2, RealizationType, bits_word};
 use crate::roots::{Endpoint, EndpointIds, Extremum, base_distance_at, bisect, cmp, cosine_sample, side_signs, sign};
@@ -194,7 +194,7 @@ struct Sweep<'a, T: Real> {
     /// search (built on first use: most exact sweeps need neither).
     jet: OnceCell<Construction<Jet<T>>>,
     /// Per step: closed-form candidates for [stretched, folded], or `None` to search numerically.
-    exact: Vec<Option<[Vec<T>; 2]>>,
+    exact: Vec<Option<[Vec<Candidate<T>>; 2]>>,
     samples: usize,
     /// Numeric roots are bisected down to a bracket this wide (scene units).
     root_tol: T,
@@ -255,7 +255,7 @@ struct Refined<T> {
 pub struct SweepPlan<T> {
     method: Method,
     /// Per step: closed-form candidates for [stretched, folded], or `None` to search numerically.
-    exact: Vec<Option<[Vec<T>; 2]>>,
+    exact: Vec<Option<[Vec<Candidate<T>>; 2]>>,
     numeric_steps: Vec<usize>,
     /// Per step: the bits of the steps it depends on ([`Construction::ancestors`])
     /// as a word; `None` past 128 steps.
@@ -264,9 +264,18 @@ pub struct SweepPlan<T> {
 
 impl<T: Real> SweepPlan<T> {
     /// The plan for a sweep by `method`: closed-form candidates where the
-    /// step is on the base or (exact method) has a carrier.
-    pub fn new(con: &Construction<T>, dec: &Decomposition, cx: &Complexity, method: Method) -> Self {
-        let inverter = Inverter { con, dec, cx };
+    /// step is on the base or (exact method) has a carrier, each with the
+    /// type bits its roots have where `cert`'s f64 balls prove them (the
+    /// sweep asks a prefix only about the candidates it admits).
+    pub fn new(
+        con: &Construction<T>,
+        cert: Option<&Certifier>,
+        dec: &Decomposition,
+        cx: &Complexity,
+        method: Method,
+    ) -> Self {
+        let balls = cert.map(Certifier::f64_balls);
+        let inverter = Inverter::new(con, dec, cx, balls);
         let mut numeric_steps = Vec::new();
         let exact = (0..con.steps.len())
             .map(|k| {
@@ -276,7 +285,12 @@ impl<T: Real> SweepPlan<T> {
                     return None;
                 }
                 let s = &con.steps[k];
-                Some([inverter.candidates(k, s.r1 + s.r2), inverter.candidates(k, (s.r1 - s.r2).abs())])
+                // A step on the base is no inversion: its candidates read no balls.
+                let b = balls.map(|b| &b.steps[k]).filter(|_| !con.on_base(k));
+                Some([
+                    inverter.candidates_known(k, s.r1 + s.r2, b.map(|b| b.r1 + b.r2)),
+                    inverter.candidates_known(k, (s.r1 - s.r2).abs(), b.map(|b| (b.r1 - b.r2).abs())),
+                ])
             })
             .collect();
         let reads = (0..con.steps.len())
@@ -323,7 +337,7 @@ pub fn cayley_space<T: Real>(
     cx: &Complexity,
     method: Method,
 ) -> CayleySpace<T> {
-    cayley_space_planned(con, cert, SweepPlan::new(con, dec, cx, method))
+    cayley_space_planned(con, cert, SweepPlan::new(con, Some(cert), dec, cx, method))
 }
 
 /// [`cayley_space`] from a plan already made (for its cost).
@@ -487,21 +501,21 @@ impl<T: Real> Sweep<'_, T> {
         let (lo, hi) = (piece.lo.lambda, piece.hi.lambda);
         let mut roots = Vec::new();
         for (ki, &kind) in self.cert.kinds(k).iter().enumerate() {
-            let numeric;
-            let candidates: &[T] = match &self.exact[k] {
-                Some(c) => &c[ki],
-                None => {
-                    numeric = self.numeric_roots(k, bits, piece, self.target(k, kind));
-                    &numeric
-                }
+            // The closed-form candidates this prefix admits (the others are
+            // no roots of its slack), or the numeric search's.
+            let (exact, numeric): (&[Candidate<T>], Vec<T>) = match &self.exact[k] {
+                Some(c) => (&c[ki], Vec::new()),
+                None => (&[], self.numeric_roots(k, bits, piece, self.target(k, kind))),
             };
+            let word = bits_word(bits);
+            let candidates = exact.iter().filter(|c| c.known.admits(word)).map(|c| c.lambda).chain(numeric);
             let at_ends = [(lo, At::Lo, ends[0][ki]), (hi, At::Hi, ends[1][ki])];
             // Where step k is proven flat at an end, a candidate a few ulps
             // inside is that same root computed another way, not a new one.
             let ulps = |x: T| T::from_f64(tolerance::SAME_ROOT_ULPS * T::UNIT_ROUNDOFF) * x.abs();
             let beside_flat_end =
                 |x: T| at_ends.iter().any(|&(e, _, sign)| sign == Sign::Zero && (x - e).abs() <= ulps(e));
-            let inside = candidates.iter().copied().filter(|&x| x > lo && x < hi && !beside_flat_end(x));
+            let inside = candidates.filter(|&x| x > lo && x < hi && !beside_flat_end(x));
             let flat_ends = at_ends.into_iter().filter(|e| e.2 == Sign::Zero).map(|(x, at, _)| (x, at));
             for (lambda, at) in inside.map(|x| (x, At::Inside)).chain(flat_ends) {
                 // Value and slope (the jet's, bit for bit); the curvature
@@ -961,6 +975,81 @@ D = [4.899652718047, -0.996696163598]
 P = [4.0, 1.86523063262]
 "#;
 
+    /// The intervals of a space as data: types, λ bit for bit, flat steps.
+    type View = Vec<(RealizationType, u64, Vec<Event>, u64, Vec<Event>)>;
+
+    fn view(s: &CayleySpace<f64>) -> View {
+        let end = |e: &Endpoint<f64>| (e.lambda.to_bits(), e.events.clone());
+        s.intervals
+            .iter()
+            .map(|i| {
+                let ((lo, lo_events), (hi, hi_events)) = (end(&i.lower), end(&i.upper));
+                (i.ty.clone(), lo, lo_events, hi, hi_events)
+            })
+            .collect()
+    }
+
+    /// On every base of the bundled scenes whose steps are inverted
+    /// through hinges and four-cycles: the sweep that asks each prefix only
+    /// about the candidates whose known bits admit it finds the intervals
+    /// (λ bit for bit), notes and components of the one that asks every
+    /// prefix about every candidate; and on Limacon's base the bits are
+    /// known for every candidate of its last step, so that each prefix is
+    /// asked about a quarter of them.
+    #[test]
+    fn known_bits_leave_the_intervals_unchanged() {
+        let scenes = [
+            (include_str!("../../../linkages/limacon.toml"), "limacon"),
+            (include_str!("../../../linkages/jansen.toml"), "jansen"),
+            (include_str!("../../../linkages/fig1a.toml"), "fig1a"),
+            (include_str!("../../../linkages/watt.toml"), "watt"),
+            (PEAUCELLIER, "peaucellier"),
+        ];
+        let mut known = 0;
+        for (text, name) in scenes {
+            let scene = crate::scene::parse_scene(text, "test", name).expect("parses");
+            let linkage = Linkage::from_scene(&scene);
+            let first = decompose(&linkage, scene.base.map(|b| b.0)).expect("in the class").expect("a base");
+            for base in std::iter::once(first.base).chain(first.other_bases(&linkage)) {
+                let dec = decompose(&linkage, Some(base)).expect("in the class").expect("valid base");
+                let cx = four_cycle_test(&dec);
+                let con = Construction::<f64>::new(&linkage, &dec).expect("closes");
+                let cert = Certifier::new(&linkage, &dec).expect("closes");
+                let with_bits = SweepPlan::new(&con, Some(&cert), &dec, &cx, Method::Exact);
+                let without = SweepPlan::new(&con, None, &dec, &cx, Method::Exact);
+                let lambdas = |p: &SweepPlan<f64>| {
+                    p.exact.iter().flatten().flatten().flatten().map(|c| c.lambda.to_bits()).collect::<Vec<_>>()
+                };
+                assert_eq!(lambdas(&with_bits), lambdas(&without), "{name} base {base:?}: the same candidates");
+                known += with_bits.exact.iter().flatten().flatten().flatten().filter(|c| c.known.mask != 0).count();
+                let (a, b) = (
+                    cayley_space_planned(&con, &cert.fork(), with_bits),
+                    cayley_space_planned(&con, &cert.fork(), without),
+                );
+                assert!(!a.intervals.is_empty(), "{name} base {base:?}");
+                assert_eq!(view(&a), view(&b), "{name} base {base:?}");
+                assert_eq!(a.notes, b.notes, "{name} base {base:?}");
+                let (ca, cb) = (crate::motion::components(&a), crate::motion::components(&b));
+                assert_eq!((ca.list, ca.connected), (cb.list, cb.connected), "{name} base {base:?}");
+            }
+        }
+        assert!(known > 0, "some candidate has known bits");
+        // Limacon on its own base: its last step's eight candidates, two per setting of the two bits it reads.
+        let scene = crate::scene::parse_scene(scenes[0].0, "test", "limacon").expect("parses");
+        let linkage = Linkage::from_scene(&scene);
+        let dec = decompose(&linkage, scene.base.map(|b| b.0)).expect("in the class").expect("a base");
+        let cert = Certifier::new(&linkage, &dec).expect("closes");
+        let con = Construction::<f64>::new(&linkage, &dec).expect("closes");
+        let plan = SweepPlan::new(&con, Some(&cert), &dec, &four_cycle_test(&dec), Method::Exact);
+        let last = plan.exact.last().cloned().flatten().expect("closed form");
+        let candidates: Vec<_> = last.iter().flatten().collect();
+        assert_eq!(candidates.len(), 8);
+        for word in 0..4u128 {
+            let prefix = Some(word << 1);
+            assert_eq!(candidates.iter().filter(|c| c.known.admits(prefix)).count(), 2, "bits {word:b}");
+        }
+    }
+
     /// On every base of Peaucellier's inversor (bars only: mirror images
     /// share refinements) and the Watt six-bar (triangles, whose members
     /// later steps read: they do not): the sweep that repeats refinements
@@ -979,23 +1068,9 @@ P = [4.0, 1.86523063262]
                 let cx = four_cycle_test(&dec);
                 let con = Construction::<f64>::new(&linkage, &dec).expect("closes");
                 let cert = Certifier::new(&linkage, &dec).expect("closes");
-                let plan = SweepPlan::new(&con, &dec, &cx, Method::Exact);
+                let plan = SweepPlan::new(&con, Some(&cert), &dec, &cx, Method::Exact);
                 let run = |reuse| sweep(&con, &cert, plan.clone(), reuse);
                 let (fresh, reused) = (run(false), run(true));
-                let view = |s: &CayleySpace<f64>| {
-                    s.intervals
-                        .iter()
-                        .map(|i| {
-                            (
-                                i.ty.clone(),
-                                i.lower.lambda.to_bits(),
-                                i.lower.events.clone(),
-                                i.upper.lambda.to_bits(),
-                                i.upper.events.clone(),
-                            )
-                        })
-                        .collect::<Vec<_>>()
-                };
                 assert!(!fresh.intervals.is_empty(), "{name} base {base:?}");
                 assert_eq!(view(&fresh), view(&reused), "{name} base {base:?}");
                 assert_eq!(fresh.notes, reused.notes, "{name} base {base:?}");

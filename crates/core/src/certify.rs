@@ -381,6 +381,11 @@ impl Certifier {
         Some(cert)
     }
 
+    /// The construction in f64 balls from the lengths as written.
+    pub fn f64_balls(&self) -> &Construction<Ball<f64>> {
+        &self.built.f64_balls
+    }
+
     /// A certifier for another thread: the same constructions (shared, the
     /// double-double ones built once for both), its own caches, and no
     /// decisions counted yet.

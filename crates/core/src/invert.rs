@@ -12,16 +12,65 @@
 //! at which step k can be flat with d_k = t, as nested square roots: the
 //! ruler-and-compass values of THEORY.md §2, with no sampling.
 //!
+//! Each hinge or quadrilateral has two branches (the angle ±θ); where a
+//! branch fixes the side of a step's vertex, balls from the lengths as
+//! written prove which, so each candidate knows some type bits of the
+//! realizations with a root there ([`KnownBits`]), and a sweep asks each
+//! prefix only about the candidates it admits.
+//!
 //! Error behaviour: every 1 ± cos is formed as a product of differences of the
 //! given lengths (no cancellation), so candidates carry a few ulps of error
 //! except near a double root (a tangency), where the root itself is
 //! ill-conditioned; there the two branches merge into one candidate when
 //! sin θ rounds to zero.
 
+use std::cell::OnceCell;
+
 use crate::complexity::{Complexity, PairOrigin};
 use crate::decompose::Decomposition;
-use crate::real::Real;
+use crate::real::{Ball, Real};
 use crate::realize::Construction;
+
+/// Type bits known at a candidate: every type with a root on the branches
+/// the candidate stands for has, for each step in `mask`, the bit of
+/// `value` (so each root of a type is at a candidate that admits it).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct KnownBits {
+    /// The steps whose bit is known, bit i for step i.
+    pub mask: u128,
+    /// Their bits (zero outside `mask`).
+    pub value: u128,
+}
+
+impl KnownBits {
+    /// Whether a type whose first bits are `word` (bit i for step i) may
+    /// have its root here; any type where the bits are not known as a word.
+    pub fn admits(self, word: Option<u128>) -> bool {
+        word.is_none_or(|w| w & self.mask == self.value)
+    }
+
+    /// What both candidates' bits say, for one candidate standing for both.
+    fn either(self, other: KnownBits) -> KnownBits {
+        let mask = self.mask & other.mask & !(self.value ^ other.value);
+        KnownBits { mask, value: self.value & mask }
+    }
+
+    fn with(self, step: usize, bit: bool) -> KnownBits {
+        if step >= 128 {
+            return self;
+        }
+        KnownBits { mask: self.mask | 1 << step, value: self.value | u128::from(bit) << step }
+    }
+}
+
+/// A closed-form candidate λ, and the type bits its roots have.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Candidate<T> {
+    /// The candidate λ.
+    pub lambda: T,
+    /// The bits of every type with a root here.
+    pub known: KnownBits,
+}
 
 /// 1 − cos and 1 + cos of the angle opposite side `t` in a triangle with
 /// sides `a`, `b`, `t`, each as a product of differences. `None` when the
@@ -41,8 +90,8 @@ fn one_minus_plus_cos<T: Real>(a: T, b: T, t: T) -> Option<(T, T)> {
     if omc < -tol || opc < -tol {
         return None;
     }
-    let clamp = |x: T| if x < T::zero() { T::zero() } else { x };
-    Some((clamp(omc), clamp(opc)))
+    // max(·, 0): f64's own clamp, and an enclosure for balls.
+    Some((omc.clamp_nonneg(), opc.clamp_nonneg()))
 }
 
 /// The side opposite an angle θ between sides `a` and `b`, from 1 − cos θ:
@@ -55,7 +104,194 @@ fn side_from_angle<T: Real>(a: T, b: T, one_minus_cos: T) -> T {
     }
     let (x, y) = (a / m, b / m);
     let q = (x - y) * (x - y) + T::from_f64(2.0) * x * y * one_minus_cos;
-    if q < T::zero() { T::zero() } else { m * q.sqrt() }
+    m * q.clamp_nonneg().sqrt()
+}
+
+/// The unsigned angle a hinge or quadrilateral turns through, as its
+/// cosine and sine (≥ 0): two branches (±) where the sine is positive, one
+/// where it is zero.
+#[derive(Clone, Copy, Debug)]
+struct Angle<U> {
+    cos: U,
+    sin: U,
+}
+
+impl<U: Real> Angle<U> {
+    /// The angle whose 1 − cos and 1 + cos are given.
+    fn of((omc, opc): (U, U)) -> Self {
+        let one = U::from_f64(1.0);
+        Angle { cos: if omc < opc { one - omc } else { opc - one }, sin: (omc * opc).sqrt() }
+    }
+
+    /// The branches' signs, `+` first.
+    fn signs(self) -> &'static [f64] {
+        if self.sin > U::zero() { &[1.0, -1.0] } else { &[1.0] }
+    }
+}
+
+/// What a hinge of clusters `tu` and `tw` about `x` fixes once: with p1
+/// ∈ tu and q1 ∈ tw (the pair whose distance is given) and p2 ∈ tu, q2 ∈
+/// tw (the pair whose distance is sought), the sides |x p1|, |x q1|,
+/// |x p2|, |x q2| and the fixed angle Δ = angle(p2 → p1) + angle(q1 → q2).
+/// Given |p1 q1| = t, the hinge angle θ1 from p1 to q1 is ±acos C, and θ2
+/// from p2 to q2 is θ1 + Δ.
+#[derive(Clone, Copy, Debug)]
+struct HingeShape<U> {
+    a1: U,
+    b1: U,
+    a2: U,
+    b2: U,
+    cos_delta: U,
+    sin_delta: U,
+}
+
+impl<U: Real> HingeShape<U> {
+    fn new(c: &Construction<U>, [tu, tw, x]: [usize; 3], [p1, q1]: [usize; 2], [p2, q2]: [usize; 2]) -> Self {
+        let (ca, sa) = if p1 == p2 { (U::from_f64(1.0), U::zero()) } else { c.cluster_angle(tu, x, p2, p1) };
+        let (cb, sb) = if q1 == q2 { (U::from_f64(1.0), U::zero()) } else { c.cluster_angle(tw, x, q1, q2) };
+        HingeShape {
+            a1: c.cluster_distance(tu, x, p1),
+            b1: c.cluster_distance(tw, x, q1),
+            a2: c.cluster_distance(tu, x, p2),
+            b2: c.cluster_distance(tw, x, q2),
+            cos_delta: ca * cb - sa * sb,
+            sin_delta: sa * cb + ca * sb,
+        }
+    }
+
+    /// |θ1| where |p1 q1| = t (`None`: the hinge cannot reach t).
+    fn angle(&self, t: U) -> Option<Angle<U>> {
+        one_minus_plus_cos(self.a1, self.b1, t).map(Angle::of)
+    }
+
+    /// |p2 q2| on the branch θ1 = `sign`·|θ1|.
+    fn side(&self, a: Angle<U>, sign: f64) -> U {
+        let sin_t1 = U::from_f64(sign) * a.sin;
+        // 1 − cos θ2 with θ2 = θ1 + Δ.
+        let one_minus = U::from_f64(1.0) - (a.cos * self.cos_delta - sin_t1 * self.sin_delta);
+        side_from_angle(self.a2, self.b2, one_minus)
+    }
+
+    /// sin θ2 on the branch θ1 = `sign`·|θ1|.
+    fn sine(&self, a: Angle<U>, sign: f64) -> U {
+        U::from_f64(sign) * a.sin * self.cos_delta + a.cos * self.sin_delta
+    }
+}
+
+/// The four-cycle of step j: `pivot` (u_j if `on_u`, else w_j) with
+/// clusters (step j's own, `other`), `far` = other ∩ opposite, and step
+/// j's other base joint `opp` in `opposite`: the sides |v_j pivot|,
+/// |v_j opp|, |pivot far|, |opp far|. Given the diagonal e = |v_j far|,
+/// the unsigned angles α1 (pivot, far) and α2 (opp, far) at v_j are fixed;
+/// the `+` branch has pivot and opp on one side of v_j → far (α1 − α2
+/// between them), the `−` branch one on each (α1 + α2).
+#[derive(Clone, Copy, Debug)]
+struct QuadShape<U> {
+    r_piv: U,
+    r_opp: U,
+    p: U,
+    q: U,
+}
+
+impl<U: Real> QuadShape<U> {
+    fn new(c: &Construction<U>, j: usize, on_u: bool, [other, opposite, far]: [usize; 3]) -> Self {
+        let s = &c.steps[j];
+        let (pivot, opp, r_piv, r_opp) = if on_u { (s.u, s.w, s.r1, s.r2) } else { (s.w, s.u, s.r2, s.r1) };
+        QuadShape { r_piv, r_opp, p: c.cluster_distance(other, pivot, far), q: c.cluster_distance(opposite, opp, far) }
+    }
+
+    /// α1 and α2 where |v_j far| = e, and the branches' signs (two where
+    /// both sines are positive).
+    fn angles(&self, e: U) -> Option<([Angle<U>; 2], &'static [f64])> {
+        let a1 = Angle::of(one_minus_plus_cos(self.r_piv, e, self.p)?);
+        let a2 = Angle::of(one_minus_plus_cos(self.r_opp, e, self.q)?);
+        let signs: &[f64] = if a1.sin * a2.sin > U::zero() { &[1.0, -1.0] } else { &[1.0] };
+        Some(([a1, a2], signs))
+    }
+
+    /// d_j = |u_j w_j| on the branch `sign`: cos(α1 ∓ α2) = c1 c2 ± s1 s2.
+    fn side(&self, [a1, a2]: [Angle<U>; 2], sign: f64) -> U {
+        let cos_sum = a1.cos * a2.cos + U::from_f64(sign) * a1.sin * a2.sin;
+        side_from_angle(self.r_piv, self.r_opp, U::from_f64(1.0) - cos_sum)
+    }
+
+    /// sin(±α2 − α1) = ±s2 c1 − c2 s1 on the branch `sign`: the sine of the
+    /// angle at v_j from pivot to opp, times the orientation o of
+    /// (v_j, far, pivot) (the signed angles from far are o·α1 and ±o·α2).
+    fn sine(&self, [a1, a2]: [Angle<U>; 2], sign: f64) -> U {
+        U::from_f64(sign) * a2.sin * a1.cos - a2.cos * a1.sin
+    }
+}
+
+/// How step k's base distance is inverted: through its carrier's hinge
+/// to the anchor step j's d_j, directly or through j's four-cycle.
+#[derive(Clone, Copy, Debug)]
+enum Inversion<U> {
+    Step(HingeShape<U>),
+    FourCycle(HingeShape<U>, QuadShape<U>),
+}
+
+impl<U: Real> Inversion<U> {
+    fn new(c: &Construction<U>, dec: &Decomposition, cx: &Complexity, k: usize) -> Option<Self> {
+        let step = &dec.steps[k];
+        let carrier = cx.carriers[k]?;
+        let (tu, tw, x) = (carrier.tu, carrier.tw, carrier.x);
+        let pair = [step.u, step.w];
+        Some(match carrier.origin {
+            PairOrigin::Step(j) => {
+                let sj = &dec.steps[j];
+                let p2 = if tu == sj.cluster_u { sj.u } else { sj.w };
+                let q2 = if tw == sj.cluster_w { sj.w } else { sj.u };
+                Inversion::Step(HingeShape::new(c, [tu, tw, x], pair, [p2, q2]))
+            }
+            PairOrigin::FourCycle { step: j, on_u, other, opposite, far } => {
+                let sj = &dec.steps[j];
+                let step_cluster = if on_u { sj.cluster_u } else { sj.cluster_w };
+                let anchors = if tu == step_cluster { [sj.vertex, far] } else { [far, sj.vertex] };
+                Inversion::FourCycle(
+                    HingeShape::new(c, [tu, tw, x], pair, anchors),
+                    QuadShape::new(c, j, on_u, [other, opposite, far]),
+                )
+            }
+        })
+    }
+}
+
+/// For step k's carrier, how the sign of a branch's sine gives the anchor
+/// step j's bit (`None`: it does not, this inversion reads no bit).
+/// Through j's two clusters hinged at v_j, θ2 runs from p2 to q2 at v_j,
+/// from u_j to w_j or back: bit j is `+` exactly where the angle from u_j
+/// to w_j has a positive sine (v_j left of u_j → w_j). Through j's
+/// four-cycle hinged at its pivot, the hinge's θ2 runs from v_j to far or
+/// back, so its sine's sign is the orientation o of (pivot, v_j, far), and
+/// the quadrilateral's o·sin is the angle from pivot to opp's.
+#[derive(Clone, Copy, Debug)]
+enum BitFrom {
+    /// Bit j is `+` where the hinge's sin θ2 has sign `plus`.
+    Hinge { plus: i8 },
+    /// Bit j is `+` where (hinge sign) · (quadrilateral sign) is `plus`.
+    HingeAndQuad { plus: i8 },
+}
+
+fn bit_from(dec: &Decomposition, cx: &Complexity, k: usize) -> Option<BitFrom> {
+    let carrier = cx.carriers[k]?;
+    let (tu, tw, x) = (carrier.tu, carrier.tw, carrier.x);
+    match carrier.origin {
+        PairOrigin::Step(j) => {
+            let sj = &dec.steps[j];
+            let forward = tu == sj.cluster_u && tw == sj.cluster_w;
+            let backward = tu == sj.cluster_w && tw == sj.cluster_u;
+            (x == sj.vertex && (forward || backward)).then_some(BitFrom::Hinge { plus: if forward { 1 } else { -1 } })
+        }
+        PairOrigin::FourCycle { step: j, on_u, .. } => {
+            let sj = &dec.steps[j];
+            let (pivot, step_cluster) = if on_u { (sj.u, sj.cluster_u) } else { (sj.w, sj.cluster_w) };
+            // The hinge's θ2 runs from v_j to far where tu is step j's own cluster.
+            let from_vertex = if tu == step_cluster { 1 } else { -1 };
+            let from_u = if on_u { 1 } else { -1 };
+            (x == pivot).then_some(BitFrom::HingeAndQuad { plus: from_vertex * from_u })
+        }
+    }
 }
 
 /// An upper bound on the closed-form candidates' search: the branches of
@@ -80,59 +316,176 @@ pub fn candidate_search_bound<T: Real>(con: &Construction<T>, cx: &Complexity) -
     bound.iter().map(|b| 2.0 * b).sum()
 }
 
-/// Candidate λ values for "step k flat with d_k = t".
-pub struct Inverter<'a, T: Real> {
-    /// The construction whose steps are inverted.
-    pub con: &'a Construction<T>,
-    /// Its decomposition (the clusters of each step).
-    pub dec: &'a Decomposition,
-    /// The four-cycle test's carriers, which the inversion follows.
-    pub cx: &'a Complexity,
+/// How one step's base distance is inverted.
+#[derive(Clone, Copy, Debug)]
+struct Shape<T> {
+    /// The carrier's anchor step.
+    anchor: usize,
+    inversion: Inversion<T>,
+    /// How the inversion reads the anchor's bit (`None`: it does not).
+    bit: Option<BitFrom>,
+    /// Whether this inversion or one below it reads a bit (else balls are not worth following).
+    learns: bool,
 }
 
-impl<T: Real> Inverter<'_, T> {
+/// Candidate λ values for "step k flat with d_k = t".
+pub struct Inverter<'a, T: Real> {
+    con: &'a Construction<T>,
+    dec: &'a Decomposition,
+    cx: &'a Complexity,
+    /// The same construction in f64 balls from the lengths as written,
+    /// where given: they prove which type bits each candidate's roots have.
+    balls: Option<&'a Construction<Ball<f64>>>,
+    /// Per step, on first use: how its base distance is inverted (`None`:
+    /// on the base, or no carrier).
+    shapes: Vec<OnceCell<Option<Shape<T>>>>,
+    /// Per step, on first use: the inversion in balls (empty without balls).
+    ball_shapes: Vec<OnceCell<Option<Inversion<Ball<f64>>>>>,
+}
+
+impl<'a, T: Real> Inverter<'a, T> {
+    /// The inversions of `con`'s steps along `cx`'s carriers, with `balls`
+    /// (the same construction in f64 balls) where the type bits of each
+    /// candidate's roots are wanted.
+    pub fn new(
+        con: &'a Construction<T>,
+        dec: &'a Decomposition,
+        cx: &'a Complexity,
+        balls: Option<&'a Construction<Ball<f64>>>,
+    ) -> Self {
+        // No room where no step is inverted (every step on the base, or without a carrier).
+        let n =
+            if (0..con.steps.len()).any(|k| !con.on_base(k) && cx.carriers[k].is_some()) { con.steps.len() } else { 0 };
+        let ball_shapes = if balls.is_some() { (0..n).map(|_| OnceCell::new()).collect() } else { Vec::new() };
+        Inverter { con, dec, cx, balls, shapes: (0..n).map(|_| OnceCell::new()).collect(), ball_shapes }
+    }
+
+    fn shape(&self, k: usize) -> Option<Shape<T>> {
+        if self.con.on_base(k) {
+            return None;
+        }
+        *self.shapes.get(k)?.get_or_init(|| {
+            let anchor = match self.cx.carriers[k]?.origin {
+                PairOrigin::Step(j) | PairOrigin::FourCycle { step: j, .. } => j,
+            };
+            let inversion = Inversion::new(self.con, self.dec, self.cx, k)?;
+            let bit = bit_from(self.dec, self.cx, k);
+            let learns = bit.is_some() || self.shape(anchor).is_some_and(|s| s.learns);
+            Some(Shape { anchor, inversion, bit, learns })
+        })
+    }
+
+    fn ball_shape(&self, k: usize) -> Option<Inversion<Ball<f64>>> {
+        *self.ball_shapes.get(k)?.get_or_init(|| Inversion::new(self.balls?, self.dec, self.cx, k))
+    }
+
     /// Every λ > 0 at which some realization has d_k = t (a superset: the
     /// caller checks each against the prefix it cares about). Sorted, exact
     /// duplicates removed.
     pub fn candidates(&self, k: usize, t: T) -> Vec<T> {
+        self.candidates_known(k, t, None).into_iter().map(|c| c.lambda).collect()
+    }
+
+    /// [`Self::candidates`], each with the type bits its roots have, where
+    /// the balls prove them from `t_ball` (an enclosure of `t`).
+    ///
+    /// Each hinge and quadrilateral back towards the base has up to two
+    /// branches; at a root, every realization follows one branch at each,
+    /// and the candidate on that path encloses its values in balls. Where a
+    /// branch fixes the side of an anchor step's vertex (see [`BitFrom`])
+    /// with a sine whose ball excludes zero, every realization with a root
+    /// on that path has that bit. Where the sine's ball holds zero (the
+    /// step near flat), or the branches in balls and in `T` differ in
+    /// number, nothing is known there (nor below, for the latter). A
+    /// candidate that stands for several (within
+    /// [`crate::tolerance::SAME_CANDIDATE_ULPS`]) keeps only the bits they
+    /// all know.
+    pub fn candidates_known(&self, k: usize, t: T, t_ball: Option<Ball<f64>>) -> Vec<Candidate<T>> {
         let mut out = Vec::new();
-        self.descend(k, t, &mut out);
-        out.retain(|x| *x > T::zero());
-        out.sort_by(|a, b| a.partial_cmp(b).unwrap_or(std::cmp::Ordering::Equal));
+        self.descend(k, t, t_ball.filter(|_| self.balls.is_some()), KnownBits::default(), &mut out);
+        out.retain(|c| c.lambda > T::zero());
+        out.sort_by(|a, b| a.lambda.partial_cmp(&b.lambda).unwrap_or(std::cmp::Ordering::Equal));
+        let same = T::from_f64(crate::tolerance::SAME_CANDIDATE_ULPS * T::UNIT_ROUNDOFF);
         out.dedup_by(|a, b| {
-            (*a - *b).abs() <= T::from_f64(crate::tolerance::SAME_CANDIDATE_ULPS * T::UNIT_ROUNDOFF) * b.abs()
+            let merge = (a.lambda - b.lambda).abs() <= same * b.lambda.abs();
+            if merge {
+                b.known = b.known.either(a.known);
+            }
+            merge
         });
         out
     }
 
-    fn descend(&self, k: usize, t: T, out: &mut Vec<T>) {
+    fn descend(&self, k: usize, t: T, t_ball: Option<Ball<f64>>, known: KnownBits, out: &mut Vec<Candidate<T>>) {
         if self.con.on_base(k) {
-            out.push(t);
+            out.push(Candidate { lambda: t, known });
             return;
         }
-        let step = &self.dec.steps[k];
-        let Some(carrier) = self.cx.carriers[k] else { return };
-        let (tu, tw, x) = (carrier.tu, carrier.tw, carrier.x);
-        match carrier.origin {
-            PairOrigin::Step(j) => {
-                let sj = &self.dec.steps[j];
-                let p2 = if tu == sj.cluster_u { sj.u } else { sj.w };
-                let q2 = if tw == sj.cluster_w { sj.w } else { sj.u };
-                for dj in self.hinge(tu, tw, x, [step.u, step.w], t, [p2, q2]) {
-                    if self.step_can_close(j, dj) {
-                        self.descend(j, dj, out);
+        let Some(Shape { anchor: j, inversion, bit, learns }) = self.shape(k) else { return };
+        let in_balls = || t_ball.filter(|_| learns).and_then(|t| Some((t, self.ball_shape(k)?)));
+        // Below a step on the base no distance is inverted: its ball is not needed.
+        let deeper = !self.con.on_base(j);
+        let learn = |known: KnownBits, sign: Option<i8>, plus: i8| sign.map_or(known, |s| known.with(j, s == plus));
+        match inversion {
+            Inversion::Step(hinge) => {
+                let Some(angle) = hinge.angle(t) else { return };
+                let plus = match bit {
+                    Some(BitFrom::Hinge { plus }) => Some(plus),
+                    _ => None,
+                };
+                // The same branches in balls, where they are as many: then in the same order.
+                let ball = match in_balls() {
+                    Some((t, Inversion::Step(h))) => Some(h).zip(h.angle(t)),
+                    _ => None,
+                };
+                let ball = ball.filter(|(_, a)| a.signs().len() == angle.signs().len());
+                for &sign in angle.signs() {
+                    let dj = hinge.side(angle, sign);
+                    if !self.step_can_close(j, dj) {
+                        continue;
                     }
+                    let known = match (plus, ball) {
+                        (Some(plus), Some((h, a))) => learn(known, h.sine(a, sign).sign(), plus),
+                        _ => known,
+                    };
+                    let dj_ball = ball.filter(|_| deeper).map(|(h, a)| h.side(a, sign));
+                    self.descend(j, dj, dj_ball, known, out);
                 }
             }
-            PairOrigin::FourCycle { step: j, on_u, other, opposite, far } => {
-                let vj = self.dec.steps[j].vertex;
-                let step_cluster = if on_u { self.dec.steps[j].cluster_u } else { self.dec.steps[j].cluster_w };
-                let anchors = if tu == step_cluster { [vj, far] } else { [far, vj] };
-                for e in self.hinge(tu, tw, x, [step.u, step.w], t, anchors) {
-                    for dj in self.quadrilateral(j, on_u, other, opposite, far, e) {
-                        if self.step_can_close(j, dj) {
-                            self.descend(j, dj, out);
+            Inversion::FourCycle(hinge, quad) => {
+                let Some(angle) = hinge.angle(t) else { return };
+                let plus = match bit {
+                    Some(BitFrom::HingeAndQuad { plus }) => Some(plus),
+                    _ => None,
+                };
+                let ball = match in_balls() {
+                    Some((t, Inversion::FourCycle(h, q))) => Some((h, q)).zip(h.angle(t)),
+                    _ => None,
+                };
+                let ball = ball.filter(|(_, a)| a.signs().len() == angle.signs().len());
+                for &sign in angle.signs() {
+                    let e = hinge.side(angle, sign);
+                    let Some((angles, signs)) = quad.angles(e) else { continue };
+                    // The hinge's sine: the orientation o of (pivot, v_j, far), or its opposite.
+                    let quad_ball = ball.and_then(|((h, q), a)| {
+                        let at = q.angles(h.side(a, sign))?;
+                        Some((q, at, h.sine(a, sign).sign()))
+                    });
+                    let quad_ball = quad_ball.filter(|(_, (_, s), _)| s.len() == signs.len());
+                    for &quad_sign in signs {
+                        let dj = quad.side(angles, quad_sign);
+                        if !self.step_can_close(j, dj) {
+                            continue;
                         }
+                        let known = match (plus, quad_ball) {
+                            (Some(plus), Some((q, (at, _), orientation))) => {
+                                let sine = q.sine(at, quad_sign).sign();
+                                learn(known, orientation.zip(sine).map(|(o, s)| o * s), plus)
+                            }
+                            _ => known,
+                        };
+                        let dj_ball = quad_ball.filter(|_| deeper).map(|(q, (at, _), _)| q.side(at, quad_sign));
+                        self.descend(j, dj, dj_ball, known, out);
                     }
                 }
             }
@@ -143,58 +496,5 @@ impl<T: Real> Inverter<'_, T> {
         let s = &self.con.steps[j];
         let tol = T::from_f64(crate::tolerance::FEASIBLE * self.con.scale);
         d >= (s.r1 - s.r2).abs() - tol && d <= s.r1 + s.r2 + tol
-    }
-
-    /// Clusters `tu` and `tw` turn about `x`. Given |p1 q1| = t (p1 ∈ tu,
-    /// q1 ∈ tw), the possible values of |p2 q2|: the hinge angle θ1 = ±acos C,
-    /// shifted by the fixed angle Δ between the two pairs.
-    fn hinge(&self, tu: usize, tw: usize, x: usize, [p1, q1]: [usize; 2], t: T, [p2, q2]: [usize; 2]) -> Vec<T> {
-        let c = self.con;
-        let (a1, b1) = (c.cluster_distance(tu, x, p1), c.cluster_distance(tw, x, q1));
-        let Some((omc, opc)) = one_minus_plus_cos(a1, b1, t) else { return Vec::new() };
-        let cos1 = if omc < opc { T::from_f64(1.0) - omc } else { opc - T::from_f64(1.0) };
-        let sin1 = (omc * opc).sqrt();
-        // Δ = angle(p2 → p1) in tu + angle(q1 → q2) in tw.
-        let (ca, sa) = if p1 == p2 { (T::from_f64(1.0), T::zero()) } else { c.cluster_angle(tu, x, p2, p1) };
-        let (cb, sb) = if q1 == q2 { (T::from_f64(1.0), T::zero()) } else { c.cluster_angle(tw, x, q1, q2) };
-        let (cd, sd) = (ca * cb - sa * sb, sa * cb + ca * sb);
-        let (a2, b2) = (c.cluster_distance(tu, x, p2), c.cluster_distance(tw, x, q2));
-        let signs: &[f64] = if sin1 > T::zero() { &[1.0, -1.0] } else { &[1.0] };
-        signs
-            .iter()
-            .map(|&sg| {
-                let sin_t1 = T::from_f64(sg) * sin1;
-                // 1 − cos θ2 with θ2 = θ1 + Δ.
-                let one_minus = T::from_f64(1.0) - (cos1 * cd - sin_t1 * sd);
-                side_from_angle(a2, b2, one_minus)
-            })
-            .collect()
-    }
-
-    /// The four-cycle of step j: `pivot` (u_j if `on_u`, else w_j) with
-    /// clusters (step j's own, `other`), `far` = other ∩ opposite, and step
-    /// j's other base joint in `opposite`. Given the diagonal e = |v_j far|,
-    /// the two values of the other diagonal d_j = |u_j w_j|.
-    fn quadrilateral(&self, j: usize, on_u: bool, other: usize, opposite: usize, far: usize, e: T) -> Vec<T> {
-        let c = self.con;
-        let s = &c.steps[j];
-        let (pivot, opp, r_piv, r_opp) = if on_u { (s.u, s.w, s.r1, s.r2) } else { (s.w, s.u, s.r2, s.r1) };
-        let p = c.cluster_distance(other, pivot, far);
-        let q = c.cluster_distance(opposite, opp, far);
-        // Angles at v_j: α1 between pivot and far, α2 between opp and far.
-        let Some((omc1, opc1)) = one_minus_plus_cos(r_piv, e, p) else { return Vec::new() };
-        let Some((omc2, opc2)) = one_minus_plus_cos(r_opp, e, q) else { return Vec::new() };
-        let one = T::from_f64(1.0);
-        let (c1, s1) = (if omc1 < opc1 { one - omc1 } else { opc1 - one }, (omc1 * opc1).sqrt());
-        let (c2, s2) = (if omc2 < opc2 { one - omc2 } else { opc2 - one }, (omc2 * opc2).sqrt());
-        let signs: &[f64] = if s1 * s2 > T::zero() { &[1.0, -1.0] } else { &[1.0] };
-        signs
-            .iter()
-            .map(|&sg| {
-                // cos(α1 ∓ α2) = c1 c2 ± s1 s2
-                let cos_sum = c1 * c2 + T::from_f64(sg) * s1 * s2;
-                side_from_angle(r_piv, r_opp, one - cos_sum)
-            })
-            .collect()
     }
 }
