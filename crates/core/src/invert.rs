@@ -49,12 +49,6 @@ impl KnownBits {
         word.is_none_or(|w| w & self.mask == self.value)
     }
 
-    /// What both candidates' bits say, for one candidate standing for both.
-    fn either(self, other: KnownBits) -> KnownBits {
-        let mask = self.mask & other.mask & !(self.value ^ other.value);
-        KnownBits { mask, value: self.value & mask }
-    }
-
     fn with(self, step: usize, bit: bool) -> KnownBits {
         if step >= 128 {
             return self;
@@ -316,6 +310,36 @@ pub fn candidate_search_bound<T: Real>(con: &Construction<T>, cx: &Complexity) -
     bound.iter().map(|b| 2.0 * b).sum()
 }
 
+/// The branches a candidate was found on, from step k down to the base:
+/// two bits per hinge or quadrilateral (whether it had two branches, and
+/// which), the first at the top, so that the paths below a branch are
+/// one run when sorted.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+struct Path {
+    code: u64,
+    levels: u32,
+}
+
+impl Path {
+    const MAX_LEVELS: u32 = 32;
+
+    /// This path, then branch `i` of `count`; `None` past [`Self::MAX_LEVELS`].
+    fn then(self, count: usize, i: usize) -> Option<Path> {
+        (self.levels < Self::MAX_LEVELS).then(|| {
+            let bits = u64::from(count == 2) << 1 | i as u64;
+            Path { code: self.code | bits << (2 * (Self::MAX_LEVELS - 1 - self.levels)), levels: self.levels + 1 }
+        })
+    }
+
+    /// The run of `sorted` (by code) below this path.
+    fn range_in(self, sorted: &[(Path, usize)]) -> std::ops::Range<usize> {
+        let low_bits = 2 * (Self::MAX_LEVELS - self.levels);
+        let mask = if low_bits == 64 { 0 } else { u64::MAX << low_bits };
+        let key = |p: &Path| p.code & mask;
+        sorted.partition_point(|(p, _)| key(p) < self.code)..sorted.partition_point(|(p, _)| key(p) <= self.code)
+    }
+}
+
 /// How one step's base distance is inverted.
 #[derive(Clone, Copy, Debug)]
 struct Shape<T> {
@@ -339,6 +363,14 @@ pub struct Inverter<'a, T: Real> {
     /// Per step, on first use: how its base distance is inverted (`None`:
     /// on the base, or no carrier).
     shapes: Vec<OnceCell<Option<Shape<T>>>>,
+    /// Per step, on first use: the hinge's sides |x u_k|, |x w_k|, which
+    /// decide whether it reaches a target at all (before the rest of its
+    /// shape is worth computing).
+    reaches: Vec<OnceCell<Option<[T; 2]>>>,
+    /// The λ where every step on the base closes: a candidate outside is
+    /// inside no piece a sweep refines by all of them, so its bits are not
+    /// worth proving.
+    closing: [T; 2],
     /// Per step, on first use: the inversion in balls (empty without balls).
     ball_shapes: Vec<OnceCell<Option<Inversion<Ball<f64>>>>>,
 }
@@ -357,7 +389,13 @@ impl<'a, T: Real> Inverter<'a, T> {
         let n =
             if (0..con.steps.len()).any(|k| !con.on_base(k) && cx.carriers[k].is_some()) { con.steps.len() } else { 0 };
         let ball_shapes = if balls.is_some() { (0..n).map(|_| OnceCell::new()).collect() } else { Vec::new() };
-        Inverter { con, dec, cx, balls, shapes: (0..n).map(|_| OnceCell::new()).collect(), ball_shapes }
+        let (shapes, reaches) = ((0..n).map(|_| OnceCell::new()).collect(), (0..n).map(|_| OnceCell::new()).collect());
+        let on_base = con.steps.iter().enumerate().filter(|&(k, _)| con.on_base(k)).map(|(_, s)| s);
+        let closing = on_base.fold([T::zero(), T::from_f64(f64::INFINITY)], |[lo, hi], s| {
+            let (below, above) = ((s.r1 - s.r2).abs(), s.r1 + s.r2);
+            [if below > lo { below } else { lo }, if above < hi { above } else { hi }]
+        });
+        Inverter { con, dec, cx, balls, shapes, reaches, closing, ball_shapes }
     }
 
     fn shape(&self, k: usize) -> Option<Shape<T>> {
@@ -373,6 +411,17 @@ impl<'a, T: Real> Inverter<'a, T> {
             let learns = bit.is_some() || self.shape(anchor).is_some_and(|s| s.learns);
             Some(Shape { anchor, inversion, bit, learns })
         })
+    }
+
+    /// Whether step k's hinge can reach d_k = t (see [`HingeShape::angle`]).
+    fn reaches(&self, k: usize, t: T) -> bool {
+        let sides = self.reaches.get(k).and_then(|cell| {
+            *cell.get_or_init(|| {
+                let (c, step) = (self.cx.carriers[k]?, &self.dec.steps[k]);
+                Some([self.con.cluster_distance(c.tu, c.x, step.u), self.con.cluster_distance(c.tw, c.x, step.w)])
+            })
+        });
+        sides.is_some_and(|[a1, b1]| one_minus_plus_cos(a1, b1, t).is_some())
     }
 
     fn ball_shape(&self, k: usize) -> Option<Inversion<Ball<f64>>> {
@@ -391,41 +440,120 @@ impl<'a, T: Real> Inverter<'a, T> {
     ///
     /// Each hinge and quadrilateral back towards the base has up to two
     /// branches; at a root, every realization follows one branch at each,
-    /// and the candidate on that path encloses its values in balls. Where a
-    /// branch fixes the side of an anchor step's vertex (see [`BitFrom`])
-    /// with a sine whose ball excludes zero, every realization with a root
-    /// on that path has that bit. Where the sine's ball holds zero (the
-    /// step near flat), or the branches in balls and in `T` differ in
-    /// number, nothing is known there (nor below, for the latter). A
-    /// candidate that stands for several (within
-    /// [`crate::tolerance::SAME_CANDIDATE_ULPS`]) keeps only the bits they
-    /// all know.
+    /// and the balls along that path enclose its values. Where a branch
+    /// fixes the side of an anchor step's vertex (see [`BitFrom`]) with a
+    /// sine whose ball excludes zero, every realization with a root on that
+    /// path has that bit. Where the sine's ball holds zero (the step near
+    /// flat) nothing is known there; where the branches in balls and in `T`
+    /// differ in number, nothing below. A candidate that stands for several
+    /// (within [`crate::tolerance::SAME_CANDIDATE_ULPS`]) is left without
+    /// bits: its paths would have to agree (they seldom do, and following
+    /// them costs as much as the bits save).
     pub fn candidates_known(&self, k: usize, t: T, t_ball: Option<Ball<f64>>) -> Vec<Candidate<T>> {
-        let mut out = Vec::new();
-        self.descend(k, t, t_ball.filter(|_| self.balls.is_some()), KnownBits::default(), &mut out);
-        out.retain(|c| c.lambda > T::zero());
-        out.sort_by(|a, b| a.lambda.partial_cmp(&b.lambda).unwrap_or(std::cmp::Ordering::Equal));
+        let unknown = |lambda: T| Candidate { lambda, known: KnownBits::default() };
+        if self.con.on_base(k) {
+            return if t > T::zero() { vec![unknown(t)] } else { Vec::new() };
+        }
+        let mut found = Vec::new();
+        self.descend(k, t, Some(Path::default()), &mut found);
+        found.retain(|(lambda, _)| *lambda > T::zero());
+        found.sort_by(|a, b| a.0.partial_cmp(&b.0).unwrap_or(std::cmp::Ordering::Equal));
         let same = T::from_f64(crate::tolerance::SAME_CANDIDATE_ULPS * T::UNIT_ROUNDOFF);
-        out.dedup_by(|a, b| {
-            let merge = (a.lambda - b.lambda).abs() <= same * b.lambda.abs();
-            if merge {
-                b.known = b.known.either(a.known);
+        // The candidates, and each one found on one path alone with that path.
+        let mut out: Vec<Candidate<T>> = Vec::with_capacity(found.len());
+        let mut alone: Vec<(Path, usize)> = Vec::new();
+        for (lambda, path) in found {
+            match out.last() {
+                Some(c) if (lambda - c.lambda).abs() <= same * c.lambda.abs() => {
+                    if alone.last().is_some_and(|&(_, i)| i + 1 == out.len()) {
+                        alone.pop();
+                    }
+                }
+                _ => {
+                    let [lo, hi] = self.closing;
+                    alone.extend(path.filter(|_| lambda >= lo && lambda <= hi).map(|p| (p, out.len())));
+                    out.push(unknown(lambda));
+                }
             }
-            merge
-        });
+        }
+        if let Some(t_ball) = t_ball.filter(|_| self.balls.is_some() && !alone.is_empty()) {
+            alone.sort_by_key(|(p, _)| p.code);
+            self.learn(k, Some(t_ball), Path::default(), KnownBits::default(), &alone, &mut out);
+        }
         out
     }
 
-    fn descend(&self, k: usize, t: T, t_ball: Option<Ball<f64>>, known: KnownBits, out: &mut Vec<Candidate<T>>) {
+    /// The candidates for d_k = t below step k, each with its path (`None`
+    /// past [`Path::MAX_LEVELS`]).
+    fn descend(&self, k: usize, t: T, path: Option<Path>, out: &mut Vec<(T, Option<Path>)>) {
         if self.con.on_base(k) {
-            out.push(Candidate { lambda: t, known });
+            out.push((t, path));
             return;
         }
-        let Some(Shape { anchor: j, inversion, bit, learns }) = self.shape(k) else { return };
-        let in_balls = || t_ball.filter(|_| learns).and_then(|t| Some((t, self.ball_shape(k)?)));
+        if !self.reaches(k, t) {
+            return;
+        }
+        let Some(Shape { anchor: j, inversion, .. }) = self.shape(k) else { return };
+        let next = |path: Option<Path>, signs: &[f64], i: usize| path.and_then(|p| p.then(signs.len(), i));
+        match inversion {
+            Inversion::Step(hinge) => {
+                let Some(angle) = hinge.angle(t) else { return };
+                for (i, &sign) in angle.signs().iter().enumerate() {
+                    let dj = hinge.side(angle, sign);
+                    if self.step_can_close(j, dj) {
+                        self.descend(j, dj, next(path, angle.signs(), i), out);
+                    }
+                }
+            }
+            Inversion::FourCycle(hinge, quad) => {
+                let Some(angle) = hinge.angle(t) else { return };
+                for (i, &sign) in angle.signs().iter().enumerate() {
+                    let Some((angles, signs)) = quad.angles(hinge.side(angle, sign)) else { continue };
+                    let path = next(path, angle.signs(), i);
+                    for (qi, &quad_sign) in signs.iter().enumerate() {
+                        let dj = quad.side(angles, quad_sign);
+                        if self.step_can_close(j, dj) {
+                            self.descend(j, dj, next(path, signs, qi), out);
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    /// [`Self::descend`] again in balls, only along the paths of `alone`
+    /// (sorted, each with its place in `out`; all below `path`): the bits
+    /// each path's sines prove, set on its candidate.
+    fn learn(
+        &self,
+        k: usize,
+        t: Option<Ball<f64>>,
+        path: Path,
+        known: KnownBits,
+        alone: &[(Path, usize)],
+        out: &mut [Candidate<T>],
+    ) {
+        if self.con.on_base(k) {
+            for &(_, i) in alone.iter().filter(|(p, _)| *p == path) {
+                out[i].known = known;
+            }
+            return;
+        }
+        let (Some(Shape { anchor: j, bit, learns, .. }), Some(t)) = (self.shape(k), t) else { return };
+        let Some(inversion) = self.ball_shape(k).filter(|_| learns) else { return };
+        // The paths through branch i of `signs` below `path` (none where the
+        // balls have another number of branches than `T` had).
+        let through = |path: Path, signs: &[f64], i: usize| {
+            let p = path.then(signs.len(), i)?;
+            let range = p.range_in(alone);
+            (!range.is_empty()).then(|| (p, &alone[range]))
+        };
         // Below a step on the base no distance is inverted: its ball is not needed.
         let deeper = !self.con.on_base(j);
-        let learn = |known: KnownBits, sign: Option<i8>, plus: i8| sign.map_or(known, |s| known.with(j, s == plus));
+        let learned = |known: KnownBits, sign: Option<i8>, plus: Option<i8>| match (sign, plus) {
+            (Some(s), Some(plus)) => known.with(j, s == plus),
+            _ => known,
+        };
         match inversion {
             Inversion::Step(hinge) => {
                 let Some(angle) = hinge.angle(t) else { return };
@@ -433,23 +561,11 @@ impl<'a, T: Real> Inverter<'a, T> {
                     Some(BitFrom::Hinge { plus }) => Some(plus),
                     _ => None,
                 };
-                // The same branches in balls, where they are as many: then in the same order.
-                let ball = match in_balls() {
-                    Some((t, Inversion::Step(h))) => Some(h).zip(h.angle(t)),
-                    _ => None,
-                };
-                let ball = ball.filter(|(_, a)| a.signs().len() == angle.signs().len());
-                for &sign in angle.signs() {
-                    let dj = hinge.side(angle, sign);
-                    if !self.step_can_close(j, dj) {
-                        continue;
-                    }
-                    let known = match (plus, ball) {
-                        (Some(plus), Some((h, a))) => learn(known, h.sine(a, sign).sign(), plus),
-                        _ => known,
-                    };
-                    let dj_ball = ball.filter(|_| deeper).map(|(h, a)| h.side(a, sign));
-                    self.descend(j, dj, dj_ball, known, out);
+                for (i, &sign) in angle.signs().iter().enumerate() {
+                    let Some((p, below)) = through(path, angle.signs(), i) else { continue };
+                    let known = learned(known, hinge.sine(angle, sign).sign(), plus);
+                    let dj = deeper.then(|| hinge.side(angle, sign));
+                    self.learn(j, dj, p, known, below, out);
                 }
             }
             Inversion::FourCycle(hinge, quad) => {
@@ -458,34 +574,16 @@ impl<'a, T: Real> Inverter<'a, T> {
                     Some(BitFrom::HingeAndQuad { plus }) => Some(plus),
                     _ => None,
                 };
-                let ball = match in_balls() {
-                    Some((t, Inversion::FourCycle(h, q))) => Some((h, q)).zip(h.angle(t)),
-                    _ => None,
-                };
-                let ball = ball.filter(|(_, a)| a.signs().len() == angle.signs().len());
-                for &sign in angle.signs() {
-                    let e = hinge.side(angle, sign);
-                    let Some((angles, signs)) = quad.angles(e) else { continue };
+                for (i, &sign) in angle.signs().iter().enumerate() {
+                    let Some((p, _)) = through(path, angle.signs(), i) else { continue };
+                    let Some((angles, signs)) = quad.angles(hinge.side(angle, sign)) else { continue };
                     // The hinge's sine: the orientation o of (pivot, v_j, far), or its opposite.
-                    let quad_ball = ball.and_then(|((h, q), a)| {
-                        let at = q.angles(h.side(a, sign))?;
-                        Some((q, at, h.sine(a, sign).sign()))
-                    });
-                    let quad_ball = quad_ball.filter(|(_, (_, s), _)| s.len() == signs.len());
-                    for &quad_sign in signs {
-                        let dj = quad.side(angles, quad_sign);
-                        if !self.step_can_close(j, dj) {
-                            continue;
-                        }
-                        let known = match (plus, quad_ball) {
-                            (Some(plus), Some((q, (at, _), orientation))) => {
-                                let sine = q.sine(at, quad_sign).sign();
-                                learn(known, orientation.zip(sine).map(|(o, s)| o * s), plus)
-                            }
-                            _ => known,
-                        };
-                        let dj_ball = quad_ball.filter(|_| deeper).map(|(q, (at, _), _)| q.side(at, quad_sign));
-                        self.descend(j, dj, dj_ball, known, out);
+                    let orientation = hinge.sine(angle, sign).sign();
+                    for (qi, &quad_sign) in signs.iter().enumerate() {
+                        let Some((p, below)) = through(p, signs, qi) else { continue };
+                        let sine = orientation.zip(quad.sine(angles, quad_sign).sign()).map(|(o, s)| o * s);
+                        let dj = deeper.then(|| quad.side(angles, quad_sign));
+                        self.learn(j, dj, p, learned(known, sine, plus), below, out);
                     }
                 }
             }
