@@ -975,6 +975,27 @@ D = [4.899652718047, -0.996696163598]
 P = [4.0, 1.86523063262]
 "#;
 
+    /// One base of a scene: the base, its decomposition, the four-cycle
+    /// test, the f64 construction and a certifier.
+    type OnBase = ([usize; 2], Decomposition, Complexity, Construction<f64>, Certifier);
+
+    /// Each valid base of a scene (its own first).
+    fn every_base(text: &str, name: &str) -> Vec<OnBase> {
+        let scene = crate::scene::parse_scene(text, "test", name).expect("parses");
+        let linkage = Linkage::from_scene(&scene);
+        let first = decompose(&linkage, scene.base.map(|b| b.0)).expect("in the class").expect("a base");
+        std::iter::once(first.base)
+            .chain(first.other_bases(&linkage))
+            .map(|base| {
+                let dec = decompose(&linkage, Some(base)).expect("in the class").expect("valid base");
+                let cx = four_cycle_test(&dec);
+                let con = Construction::<f64>::new(&linkage, &dec).expect("closes");
+                let cert = Certifier::new(&linkage, &dec).expect("closes");
+                (base, dec, cx, con, cert)
+            })
+            .collect()
+    }
+
     /// The intervals of a space as data: types, λ bit for bit, flat steps.
     type View = Vec<(RealizationType, u64, Vec<Event>, u64, Vec<Event>)>;
 
@@ -1007,14 +1028,7 @@ P = [4.0, 1.86523063262]
         ];
         let mut known = 0;
         for (text, name) in scenes {
-            let scene = crate::scene::parse_scene(text, "test", name).expect("parses");
-            let linkage = Linkage::from_scene(&scene);
-            let first = decompose(&linkage, scene.base.map(|b| b.0)).expect("in the class").expect("a base");
-            for base in std::iter::once(first.base).chain(first.other_bases(&linkage)) {
-                let dec = decompose(&linkage, Some(base)).expect("in the class").expect("valid base");
-                let cx = four_cycle_test(&dec);
-                let con = Construction::<f64>::new(&linkage, &dec).expect("closes");
-                let cert = Certifier::new(&linkage, &dec).expect("closes");
+            for (base, dec, cx, con, cert) in every_base(text, name) {
                 let with_bits = SweepPlan::new(&con, Some(&cert), &dec, &cx, Method::Exact);
                 let without = SweepPlan::new(&con, None, &dec, &cx, Method::Exact);
                 let lambdas = |p: &SweepPlan<f64>| {
@@ -1063,14 +1077,7 @@ P = [4.0, 1.86523063262]
     fn repeated_refinements_are_the_fresh_ones() {
         let (mut repeating, mut mirrored) = (0, 0);
         for (text, name) in [(PEAUCELLIER, "peaucellier"), (include_str!("../../../linkages/watt.toml"), "watt")] {
-            let scene = crate::scene::parse_scene(text, "test", name).expect("parses");
-            let linkage = Linkage::from_scene(&scene);
-            let first = decompose(&linkage, None).expect("in the class").expect("a base");
-            for base in std::iter::once(first.base).chain(first.other_bases(&linkage)) {
-                let dec = decompose(&linkage, Some(base)).expect("in the class").expect("valid base");
-                let cx = four_cycle_test(&dec);
-                let con = Construction::<f64>::new(&linkage, &dec).expect("closes");
-                let cert = Certifier::new(&linkage, &dec).expect("closes");
+            for (base, dec, cx, con, cert) in every_base(text, name) {
                 let plan = SweepPlan::new(&con, Some(&cert), &dec, &cx, Method::Exact);
                 let run = |reuse| sweep(&con, &cert, plan.clone(), reuse);
                 let (fresh, reused) = (run(false), run(true));

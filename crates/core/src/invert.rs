@@ -251,23 +251,16 @@ impl<U: Real> Inversion<U> {
     }
 }
 
-/// For step k's carrier, how the sign of a branch's sine gives the anchor
-/// step j's bit (`None`: it does not, this inversion reads no bit).
-/// Through j's two clusters hinged at v_j, θ2 runs from p2 to q2 at v_j,
-/// from u_j to w_j or back: bit j is `+` exactly where the angle from u_j
-/// to w_j has a positive sine (v_j left of u_j → w_j). Through j's
-/// four-cycle hinged at its pivot, the hinge's θ2 runs from v_j to far or
-/// back, so its sine's sign is the orientation o of (pivot, v_j, far), and
-/// the quadrilateral's o·sin is the angle from pivot to opp's.
-#[derive(Clone, Copy, Debug)]
-enum BitFrom {
-    /// Bit j is `+` where the hinge's sin θ2 has sign `plus`.
-    Hinge { plus: i8 },
-    /// Bit j is `+` where (hinge sign) · (quadrilateral sign) is `plus`.
-    HingeAndQuad { plus: i8 },
-}
-
-fn bit_from(dec: &Decomposition, cx: &Complexity, k: usize) -> Option<BitFrom> {
+/// For step k's carrier, the sign `plus` of a branch's sine where the
+/// anchor step j's bit is `+` (`None`: the inversion reads no bit).
+/// Through j's two clusters hinged at v_j, the sine is the hinge's sin θ2,
+/// θ2 running from p2 to q2 at v_j, from u_j to w_j or back: bit j is `+`
+/// exactly where the angle from u_j to w_j has a positive sine (v_j left
+/// of u_j → w_j). Through j's four-cycle hinged at its pivot, the sine is
+/// the hinge's sign times the quadrilateral's: the hinge's θ2 runs from
+/// v_j to far or back, so its sign is the orientation o of (pivot, v_j,
+/// far), and the quadrilateral's o·sin is the angle from pivot to opp's.
+fn bit_from(dec: &Decomposition, cx: &Complexity, k: usize) -> Option<i8> {
     let carrier = cx.carriers[k]?;
     let (tu, tw, x) = (carrier.tu, carrier.tw, carrier.x);
     match carrier.origin {
@@ -275,7 +268,7 @@ fn bit_from(dec: &Decomposition, cx: &Complexity, k: usize) -> Option<BitFrom> {
             let sj = &dec.steps[j];
             let forward = tu == sj.cluster_u && tw == sj.cluster_w;
             let backward = tu == sj.cluster_w && tw == sj.cluster_u;
-            (x == sj.vertex && (forward || backward)).then_some(BitFrom::Hinge { plus: if forward { 1 } else { -1 } })
+            (x == sj.vertex && (forward || backward)).then_some(if forward { 1 } else { -1 })
         }
         PairOrigin::FourCycle { step: j, on_u, .. } => {
             let sj = &dec.steps[j];
@@ -283,7 +276,7 @@ fn bit_from(dec: &Decomposition, cx: &Complexity, k: usize) -> Option<BitFrom> {
             // The hinge's θ2 runs from v_j to far where tu is step j's own cluster.
             let from_vertex = if tu == step_cluster { 1 } else { -1 };
             let from_u = if on_u { 1 } else { -1 };
-            (x == pivot).then_some(BitFrom::HingeAndQuad { plus: from_vertex * from_u })
+            (x == pivot).then_some(from_vertex * from_u)
         }
     }
 }
@@ -346,8 +339,9 @@ struct Shape<T> {
     /// The carrier's anchor step.
     anchor: usize,
     inversion: Inversion<T>,
-    /// How the inversion reads the anchor's bit (`None`: it does not).
-    bit: Option<BitFrom>,
+    /// The sign of a branch's sine where the anchor's bit is `+` (see
+    /// [`bit_from`]; `None`: the inversion reads no bit).
+    plus: Option<i8>,
     /// Whether this inversion or one below it reads a bit (else balls are not worth following).
     learns: bool,
 }
@@ -407,9 +401,9 @@ impl<'a, T: Real> Inverter<'a, T> {
                 PairOrigin::Step(j) | PairOrigin::FourCycle { step: j, .. } => j,
             };
             let inversion = Inversion::new(self.con, self.dec, self.cx, k)?;
-            let bit = bit_from(self.dec, self.cx, k);
-            let learns = bit.is_some() || self.shape(anchor).is_some_and(|s| s.learns);
-            Some(Shape { anchor, inversion, bit, learns })
+            let plus = bit_from(self.dec, self.cx, k);
+            let learns = plus.is_some() || self.shape(anchor).is_some_and(|s| s.learns);
+            Some(Shape { anchor, inversion, plus, learns })
         })
     }
 
@@ -441,7 +435,7 @@ impl<'a, T: Real> Inverter<'a, T> {
     /// Each hinge and quadrilateral back towards the base has up to two
     /// branches; at a root, every realization follows one branch at each,
     /// and the balls along that path enclose its values. Where a branch
-    /// fixes the side of an anchor step's vertex (see [`BitFrom`]) with a
+    /// fixes the side of an anchor step's vertex (see [`bit_from`]) with a
     /// sine whose ball excludes zero, every realization with a root on that
     /// path has that bit. Where the sine's ball holds zero (the step near
     /// flat) nothing is known there; where the branches in balls and in `T`
@@ -539,7 +533,7 @@ impl<'a, T: Real> Inverter<'a, T> {
             }
             return;
         }
-        let (Some(Shape { anchor: j, bit, learns, .. }), Some(t)) = (self.shape(k), t) else { return };
+        let (Some(Shape { anchor: j, plus, learns, .. }), Some(t)) = (self.shape(k), t) else { return };
         let Some(inversion) = self.ball_shape(k).filter(|_| learns) else { return };
         // The paths through branch i of `signs` below `path` (none where the
         // balls have another number of branches than `T` had).
@@ -557,10 +551,6 @@ impl<'a, T: Real> Inverter<'a, T> {
         match inversion {
             Inversion::Step(hinge) => {
                 let Some(angle) = hinge.angle(t) else { return };
-                let plus = match bit {
-                    Some(BitFrom::Hinge { plus }) => Some(plus),
-                    _ => None,
-                };
                 for (i, &sign) in angle.signs().iter().enumerate() {
                     let Some((p, below)) = through(path, angle.signs(), i) else { continue };
                     let known = learned(known, hinge.sine(angle, sign).sign(), plus);
@@ -570,10 +560,6 @@ impl<'a, T: Real> Inverter<'a, T> {
             }
             Inversion::FourCycle(hinge, quad) => {
                 let Some(angle) = hinge.angle(t) else { return };
-                let plus = match bit {
-                    Some(BitFrom::HingeAndQuad { plus }) => Some(plus),
-                    _ => None,
-                };
                 for (i, &sign) in angle.signs().iter().enumerate() {
                     let Some((p, _)) = through(path, angle.signs(), i) else { continue };
                     let Some((angles, signs)) = quad.angles(hinge.side(angle, sign)) else { continue };
