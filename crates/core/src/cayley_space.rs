@@ -501,14 +501,18 @@ impl<T: Real> Sweep<'_, T> {
         let (lo, hi) = (piece.lo.lambda, piece.hi.lambda);
         let mut roots = Vec::new();
         for (ki, &kind) in self.cert.kinds(k).iter().enumerate() {
-            // The closed-form candidates this prefix admits (the others are
-            // no roots of its slack), or the numeric search's.
-            let (exact, numeric): (&[Candidate<T>], Vec<T>) = match &self.exact[k] {
-                Some(c) => (&c[ki], Vec::new()),
-                None => (&[], self.numeric_roots(k, bits, piece, self.target(k, kind))),
+            let numeric: Vec<Candidate<T>>;
+            let candidates: &[Candidate<T>] = match &self.exact[k] {
+                Some(c) => &c[ki],
+                None => {
+                    let roots = self.numeric_roots(k, bits, piece, self.target(k, kind));
+                    numeric = roots.into_iter().map(Candidate::unknown).collect();
+                    &numeric
+                }
             };
+            // The candidates this prefix admits: the others are no roots of its slack.
             let word = bits_word(bits);
-            let candidates = exact.iter().filter(|c| c.known.admits(word)).map(|c| c.lambda).chain(numeric);
+            let candidates = candidates.iter().filter(|c| c.known.admits(word)).map(|c| c.lambda);
             let at_ends = [(lo, At::Lo, ends[0][ki]), (hi, At::Hi, ends[1][ki])];
             // Where step k is proven flat at an end, a candidate a few ulps
             // inside is that same root computed another way, not a new one.

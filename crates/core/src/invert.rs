@@ -66,6 +66,13 @@ pub struct Candidate<T> {
     pub known: KnownBits,
 }
 
+impl<T> Candidate<T> {
+    /// A candidate whose roots' bits are not known.
+    pub fn unknown(lambda: T) -> Self {
+        Candidate { lambda, known: KnownBits::default() }
+    }
+}
+
 /// 1 − cos and 1 + cos of the angle opposite side `t` in a triangle with
 /// sides `a`, `b`, `t`, each as a product of differences. `None` when the
 /// triangle cannot close (beyond a few ulps, which are clamped to flat).
@@ -444,9 +451,8 @@ impl<'a, T: Real> Inverter<'a, T> {
     /// bits: its paths would have to agree (they seldom do, and following
     /// them costs as much as the bits save).
     pub fn candidates_known(&self, k: usize, t: T, t_ball: Option<Ball<f64>>) -> Vec<Candidate<T>> {
-        let unknown = |lambda: T| Candidate { lambda, known: KnownBits::default() };
         if self.con.on_base(k) {
-            return if t > T::zero() { vec![unknown(t)] } else { Vec::new() };
+            return if t > T::zero() { vec![Candidate::unknown(t)] } else { Vec::new() };
         }
         let mut found = Vec::new();
         self.descend(k, t, Some(Path::default()), &mut found);
@@ -466,7 +472,7 @@ impl<'a, T: Real> Inverter<'a, T> {
                 _ => {
                     let [lo, hi] = self.closing;
                     alone.extend(path.filter(|_| lambda >= lo && lambda <= hi).map(|p| (p, out.len())));
-                    out.push(unknown(lambda));
+                    out.push(Candidate::unknown(lambda));
                 }
             }
         }
