@@ -500,6 +500,7 @@ impl<T: Real> Sweep<'_, T> {
     fn roots(&mut self, k: usize, bits: &[bool], piece: &Piece<T>, ends: [[Sign; 2]; 2]) -> Vec<Root<T>> {
         let (lo, hi) = (piece.lo.lambda, piece.hi.lambda);
         let mut roots = Vec::new();
+        let word = bits_word(bits);
         for (ki, &kind) in self.cert.kinds(k).iter().enumerate() {
             let numeric: Vec<Candidate<T>>;
             let candidates: &[Candidate<T>] = match &self.exact[k] {
@@ -511,7 +512,6 @@ impl<T: Real> Sweep<'_, T> {
                 }
             };
             // The candidates this prefix admits: the others are no roots of its slack.
-            let word = bits_word(bits);
             let candidates = candidates.iter().filter(|c| c.known.admits(word)).map(|c| c.lambda);
             let at_ends = [(lo, At::Lo, ends[0][ki]), (hi, At::Hi, ends[1][ki])];
             // Where step k is proven flat at an end, a candidate a few ulps
@@ -981,10 +981,10 @@ P = [4.0, 1.86523063262]
 
     /// One base of a scene: the base, its decomposition, the four-cycle
     /// test, the f64 construction and a certifier.
-    type OnBase = ([usize; 2], Decomposition, Complexity, Construction<f64>, Certifier);
+    pub(crate) type OnBase = ([usize; 2], Decomposition, Complexity, Construction<f64>, Certifier);
 
     /// Each valid base of a scene (its own first).
-    fn every_base(text: &str, name: &str) -> Vec<OnBase> {
+    pub(crate) fn every_base(text: &str, name: &str) -> Vec<OnBase> {
         let scene = crate::scene::parse_scene(text, "test", name).expect("parses");
         let linkage = Linkage::from_scene(&scene);
         let first = decompose(&linkage, scene.base.map(|b| b.0)).expect("in the class").expect("a base");
@@ -1018,9 +1018,9 @@ P = [4.0, 1.86523063262]
     /// through hinges and four-cycles: the sweep that asks each prefix only
     /// about the candidates whose known bits admit it finds the intervals
     /// (λ bit for bit), notes and components of the one that asks every
-    /// prefix about every candidate; and on Limacon's base the bits are
-    /// known for every candidate of its last step, so that each prefix is
-    /// asked about a quarter of them.
+    /// prefix about every candidate; and on Limacon's own base, seven of its
+    /// last step's eight candidates know both bits that step reads, so that
+    /// each prefix admits at most two of those seven.
     #[test]
     fn known_bits_leave_the_intervals_unchanged() {
         let scenes = [
@@ -1054,12 +1054,8 @@ P = [4.0, 1.86523063262]
         assert!(known > 0, "some candidate has known bits");
         // Limacon on its own base: its last step's eight candidates, of which the seven
         // where both steps on the base close know the two bits it reads, two per setting.
-        let scene = crate::scene::parse_scene(scenes[0].0, "test", "limacon").expect("parses");
-        let linkage = Linkage::from_scene(&scene);
-        let dec = decompose(&linkage, scene.base.map(|b| b.0)).expect("in the class").expect("a base");
-        let cert = Certifier::new(&linkage, &dec).expect("closes");
-        let con = Construction::<f64>::new(&linkage, &dec).expect("closes");
-        let plan = SweepPlan::new(&con, Some(&cert), &dec, &four_cycle_test(&dec), Method::Exact);
+        let (_, dec, cx, con, cert) = every_base(scenes[0].0, "limacon").swap_remove(0);
+        let plan = SweepPlan::new(&con, Some(&cert), &dec, &cx, Method::Exact);
         let last = plan.exact.last().cloned().flatten().expect("closed form");
         let candidates: Vec<_> = last.iter().flatten().collect();
         assert_eq!(candidates.len(), 8);

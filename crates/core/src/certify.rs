@@ -1082,9 +1082,8 @@ impl Certifier {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::cayley_space::{Method, cayley_space, tests::PEAUCELLIER};
-    use crate::complexity::four_cycle_test;
-    use crate::decompose::decompose;
+    use crate::cayley_space::tests::{PEAUCELLIER, every_base};
+    use crate::cayley_space::{Method, cayley_space};
 
     /// A bracket search's next half-width: where a linear slack's secant
     /// says its change clears the radii twice over, kept within 2 and 256
@@ -1109,15 +1108,9 @@ mod tests {
     /// across the bits of the steps flat there (shared) and of the others.
     #[test]
     fn kept_distances_are_the_fresh_ones() {
-        let scene = crate::scene::parse_scene(PEAUCELLIER, "test", "peaucellier").expect("parses");
-        let linkage = Linkage::from_scene(&scene);
-        let first = decompose(&linkage, None).expect("in the class").expect("a base");
         let mut flat_before_last = 0;
-        for base in std::iter::once(first.base).chain(first.other_bases(&linkage)) {
-            let dec = decompose(&linkage, Some(base)).expect("in the class").expect("valid base");
-            let con = Construction::<f64>::new(&linkage, &dec).expect("closes");
-            let cert = Certifier::new(&linkage, &dec).expect("closes");
-            let space = cayley_space(&con, &cert, &dec, &four_cycle_test(&dec), Method::Exact);
+        for (base, dec, cx, con, cert) in every_base(PEAUCELLIER, "peaucellier") {
+            let space = cayley_space(&con, &cert, &dec, &cx, Method::Exact);
             let balls = &cert.built.f64_balls;
             let n = con.steps.len();
             let mut kept = Kept::default();
