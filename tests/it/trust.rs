@@ -44,7 +44,7 @@ fn assert_scopes_agree(scene: &Scene) {
 }
 
 fn events(iv: &OrientedInterval<f64>) -> (Vec<Event>, Vec<Event>) {
-    (iv.lower.events.clone(), iv.upper.events.clone())
+    (iv.lower.events.to_vec(), iv.upper.events.to_vec())
 }
 
 // ---------------------------------------------------------------------------
@@ -88,7 +88,7 @@ fn fold_events_1e_minus_9_to_1e_minus_15_apart_stay_distinct() {
             assert!(s.components.branch_points.is_empty(), "δ = 1e-{e}, {scope:?}: no branch point");
             for iv in &s.space.intervals {
                 assert_eq!(iv.lower.lambda, da - 2.5, "δ = 1e-{e}: the lower end is D's fold");
-                assert_eq!(iv.lower.events, vec![Event { step: 1, kind: Kind::Folded }], "δ = 1e-{e}, {scope:?}");
+                assert_eq!(iv.lower.events[..], [Event { step: 1, kind: Kind::Folded }], "δ = 1e-{e}, {scope:?}");
             }
         }
     }
@@ -98,8 +98,8 @@ fn fold_events_1e_minus_9_to_1e_minus_15_apart_stay_distinct() {
 #[test]
 fn exactly_coincident_fold_events_are_one_branch_point() {
     let (_, s) = solve(four_bar(1.0, 3.0, 2.5, 4.5));
-    let both = vec![Event { step: 0, kind: Kind::Folded }, Event { step: 1, kind: Kind::Folded }];
-    assert!(s.space.intervals.iter().all(|iv| iv.lower.events == both));
+    let both = [Event { step: 0, kind: Kind::Folded }, Event { step: 1, kind: Kind::Folded }];
+    assert!(s.space.intervals.iter().all(|iv| iv.lower.events[..] == both));
     assert!(!s.components.branch_points.is_empty());
 }
 

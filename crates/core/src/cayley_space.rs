@@ -33,7 +33,9 @@ use crate::inthash::IntMap;
 use crate::invert::{Candidate, Inverter};
 use crate::real::{Jet, Real, Slope};
 use crate::realize::{Construction, Event, Kind, P2, RealizationType, bits_word};
-use crate::roots::{Endpoint, EndpointIds, Extremum, base_distance_at, bisect, cmp, cosine_sample, side_signs, sign};
+use crate::roots::{
+    Endpoint, EndpointIds, Events, Extremum, base_distance_at, bisect, cmp, cosine_sample, side_signs, sign,
+};
 use crate::tolerance;
 
 /// A maximal closed λ-interval on which one realization type exists
@@ -381,8 +383,8 @@ fn sweep<T: Real>(con: &Construction<T>, cert: &Certifier, plan: SweepPlan<T>, r
         .map(|k| con.steps[k].r1 + con.steps[k].r2)
         .fold(T::from_f64(f64::INFINITY), |a, b| if b < a { b } else { a });
     let top = top + top + T::from_f64(con.scale);
-    let lo = sweep.ids.make(T::zero(), Vec::new());
-    let hi = sweep.ids.make(top, Vec::new());
+    let lo = sweep.ids.make(T::zero(), Events::new());
+    let hi = sweep.ids.make(top, Events::new());
     let mut bits = Vec::with_capacity(n);
     sweep.descend(0, &mut bits, &[Piece { lo, hi, touch: false }]);
     let mut intervals = join_split_runs(drop_repeated_touches(sweep.out, &sweep.touches));
@@ -643,7 +645,7 @@ impl<T: Real> Sweep<'_, T> {
                     self.with_coincident(piece.lo.clone(), &at_lo, k)
                 } else {
                     let r = inside[g - 1];
-                    self.ids.make(r.lambda, vec![event(&r)])
+                    self.ids.make(r.lambda, Events::one(event(&r)))
                 });
             }
             if g == n_gaps - 1 {
@@ -668,18 +670,18 @@ impl<T: Real> Sweep<'_, T> {
                     // so each side is refined by the later steps on its own,
                     // and joined again at the leaves where both survive.
                     if k + 1 < self.con.steps.len() {
-                        let at = self.ids.make(r.lambda, vec![event(&r)]);
+                        let at = self.ids.make(r.lambda, Events::one(event(&r)));
                         out.push(Piece { lo: start.take().expect("open run"), hi: at.clone(), touch: false });
                         start = Some(at);
                     }
                 }
                 (true, false) => {
-                    let hi = self.ids.make(r.lambda, vec![event(&r)]);
+                    let hi = self.ids.make(r.lambda, Events::one(event(&r)));
                     out.push(Piece { lo: start.take().expect("open run"), hi, touch: false });
                 }
                 (false, false) => {
                     self.notes.push(Note::Tangency { lambda: r.lambda.to_f64(), event: event(&r), inside: false });
-                    let p = self.ids.make(r.lambda, vec![event(&r)]);
+                    let p = self.ids.make(r.lambda, Events::one(event(&r)));
                     out.push(Piece { lo: p.clone(), hi: p, touch: false });
                 }
                 (false, true) => {}
@@ -767,7 +769,7 @@ impl<T: Real> Sweep<'_, T> {
             }
         }
         if end.events.len() > 1 {
-            self.notes.push(Note::Coincident { lambda: end.lambda.to_f64(), events: end.events.clone() });
+            self.notes.push(Note::Coincident { lambda: end.lambda.to_f64(), events: end.events.to_vec() });
         }
         if end.lambda == T::zero() && !end.events.is_empty() {
             self.notes.push(Note::ZeroBase { step: k });
@@ -1004,7 +1006,7 @@ P = [4.0, 1.86523063262]
     type View = Vec<(RealizationType, u64, Vec<Event>, u64, Vec<Event>)>;
 
     fn view(s: &CayleySpace<f64>) -> View {
-        let end = |e: &Endpoint<f64>| (e.lambda.to_bits(), e.events.clone());
+        let end = |e: &Endpoint<f64>| (e.lambda.to_bits(), e.events.to_vec());
         s.intervals
             .iter()
             .map(|i| {

@@ -220,7 +220,7 @@ pub fn halves(con: &Construction<f64>, space: &CayleySpace<f64>, segments: &[Seg
         for (end, other_end, flat_steps) in [(seg.from, seg.to, &seg.flat_from), (seg.to, seg.from, &seg.flat_to)] {
             let dir = if other_end >= end { 1.0 } else { -1.0 };
             let events = if end == iv.lower.lambda { &iv.lower.events } else { &iv.upper.events };
-            let flat = match (flat_steps.as_slice(), events.as_slice()) {
+            let flat = match (flat_steps.as_slice(), &events[..]) {
                 ([k], [e]) if e.step == *k => Some((*k, e.kind)),
                 _ => None,
             };

@@ -52,7 +52,7 @@ use std::collections::VecDeque;
 use std::sync::mpsc;
 
 use crate::roots::{
-    Endpoint, EndpointIds, Extremum, base_distance_at, between, cmp, cosine_sample, newton, newton_from,
+    Endpoint, EndpointIds, Events, Extremum, base_distance_at, between, cmp, cosine_sample, newton, newton_from,
     newton_from_end, newton_seeded, quadratic_root, side_signs,
 };
 use crate::tolerance;
@@ -701,7 +701,7 @@ impl<'a, T: Real> Walker<'a, T> {
             _ => Note::Coincident { lambda: l, events: flat.clone() },
         });
         let steps: Vec<usize> = flat.iter().map(|e| e.step).collect();
-        let p = self.ids.make(lambda, flat);
+        let p = self.ids.make(lambda, Events::from(flat));
         let point =
             |mask: usize| OrientedInterval { ty: ty.flipped_by_mask(&steps, mask), lower: p.clone(), upper: p.clone() };
         Some((0..1usize << steps.len()).map(point).collect())
@@ -732,13 +732,13 @@ impl<'a, T: Real> Walker<'a, T> {
                 if events.len() > 1 {
                     self.notes.push(Note::Coincident { lambda: lambda.to_f64(), events: events.clone() });
                 }
-                self.ids.make(lambda, events)
+                self.ids.make(lambda, Events::from(events))
             }
-            End::Events(lambda, _) => self.ids.make(lambda, Vec::new()),
+            End::Events(lambda, _) => self.ids.make(lambda, Events::new()),
             End::Stuck(lambda, step) => {
                 let l = lambda.to_f64();
                 self.notes.push(Note::Degenerate { lambda: [l, l], step });
-                self.ids.make(lambda, Vec::new())
+                self.ids.make(lambda, Events::new())
             }
         }
     }
@@ -1843,7 +1843,7 @@ mod tests {
     }
 
     fn end(lambda: f64, step: usize, id: usize) -> Endpoint<f64> {
-        Endpoint { lambda, events: vec![Event { step, kind: Kind::Stretched }], id }
+        Endpoint { lambda, events: Events::one(Event { step, kind: Kind::Stretched }), id }
     }
 
     fn interval(ty: &str, lower: &Endpoint<f64>, upper: &Endpoint<f64>) -> OrientedInterval<f64> {

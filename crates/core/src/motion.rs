@@ -214,7 +214,7 @@ fn components_by<K: TypeKey>(space: &CayleySpace<f64>, keys: &[K]) -> Components
                 let e = end(&ivs[cur], leaving);
                 branch_points.push(BranchPoint {
                     lambda: e.lambda,
-                    events: e.events.clone(),
+                    events: e.events.to_vec(),
                     from: cur,
                     options: options.clone(),
                     through: beyond.clone(),
@@ -867,8 +867,9 @@ mod tests {
     #[test]
     fn components_meeting_at_an_end_with_several_flat_steps_are_one_set() {
         let flat = vec![Event { step: 0, kind: Kind::Stretched }, Event { step: 1, kind: Kind::Stretched }];
-        let top = Endpoint { lambda: 2.0, events: flat, id: 1 };
-        let bottom = |id: usize| Endpoint { lambda: 1.0, events: vec![Event { step: 2, kind: Kind::Folded }], id };
+        let top = Endpoint { lambda: 2.0, events: flat.into(), id: 1 };
+        let bottom =
+            |id: usize| Endpoint { lambda: 1.0, events: vec![Event { step: 2, kind: Kind::Folded }].into(), id };
         let ty = |bits: [bool; 3]| RealizationType(bits.to_vec());
         let interval = |bits, id| OrientedInterval { ty: ty(bits), lower: bottom(id), upper: top.clone() };
         let space = CayleySpace {

@@ -428,8 +428,8 @@ fn summarise(value: f64, class: Class, linkage: &Linkage, s: &Solved, input: Opt
         .iter()
         .map(|iv| IntervalShape {
             ty: iv.ty.0.clone(),
-            lower: iv.lower.events.clone(),
-            upper: iv.upper.events.clone(),
+            lower: iv.lower.events.to_vec(),
+            upper: iv.upper.events.to_vec(),
             point: iv.lower.lambda == iv.upper.lambda,
         })
         .collect();
