@@ -144,8 +144,11 @@ type PlaceKey = (u64, u64, u128);
 #[derive(Debug)]
 struct Kept<T> {
     places: IntMap<PlaceKey, Realized>,
-    /// Each slot: the positions after 0, 1, …, `steps` steps, one block of joints each.
-    levels: Vec<Vec<P2<T>>>,
+    /// Each slot: one position per joint, those of the steps placed valid.
+    /// A step reads only joints placed before it, so a question that
+    /// resumes from a shorter common prefix places its later steps over
+    /// the old ones in place (no copy of the positions per step).
+    positions: Vec<Vec<P2<T>>>,
     /// Each slot: d_i of each step placed.
     distances: Vec<Vec<T>>,
     /// The last answer's distances (reused: no allocation per question).
@@ -154,7 +157,7 @@ struct Kept<T> {
 
 impl<T> Default for Kept<T> {
     fn default() -> Self {
-        Kept { places: IntMap::default(), levels: Vec::new(), distances: Vec::new(), view: Vec::new() }
+        Kept { places: IntMap::default(), positions: Vec::new(), distances: Vec::new(), view: Vec::new() }
     }
 }
 
@@ -217,7 +220,7 @@ impl<T: Real + PlaceBits> Kept<T> {
         let key = (hi, lo, flat);
         if self.places.len() >= tolerance::PREFIX_PLACES && !self.places.contains_key(&key) {
             self.places.clear();
-            self.levels.clear();
+            self.positions.clear();
             self.distances.clear();
         }
         let n = con.n_joints;
@@ -226,31 +229,28 @@ impl<T: Real + PlaceBits> Kept<T> {
         let next = self.places.len();
         let place = self.places.entry(key).or_insert(Realized { slot: next, placed: 0, bits: 0 });
         let (block, at) = (place.slot / SLOTS_PER_BLOCK, place.slot % SLOTS_PER_BLOCK);
-        let size = (steps + 1) * n;
         if place.slot == next {
-            if block == self.levels.len() {
-                self.levels.push(Vec::with_capacity(SLOTS_PER_BLOCK * size));
+            if block == self.positions.len() {
+                self.positions.push(Vec::with_capacity(SLOTS_PER_BLOCK * n));
                 self.distances.push(Vec::with_capacity(SLOTS_PER_BLOCK * steps));
             }
             let zero = T::zero();
-            self.levels[block].resize((at + 1) * size, [zero, zero]);
-            con.place_base(&mut self.levels[block][at * size..], lambda);
+            self.positions[block].resize((at + 1) * n, [zero, zero]);
+            con.place_base(&mut self.positions[block][at * n..], lambda);
             self.distances[block].resize((at + 1) * steps, zero);
         }
-        let levels = &mut self.levels[block][at * size..(at + 1) * size];
+        let positions = &mut self.positions[block][at * n..(at + 1) * n];
         let distances = &mut self.distances[block][at * steps..(at + 1) * steps];
         let asked = prefix_word(bits, upto).expect("upto < 128");
         let common = (((place.bits ^ asked) & !flat).trailing_zeros() as usize).min(place.placed).min(upto);
         place.placed = common;
         let tol = tolerance::FEASIBLE * con.scale;
-        // Later questions at this place build on these levels: place what any step reads.
+        // Later questions at this place build on these positions: place what any step reads.
         let reach = con.steps.len();
         self.view.clear();
         while place.placed < upto {
             let k = place.placed;
-            levels.copy_within(k * n..(k + 1) * n, (k + 1) * n);
-            let (dk, placed) =
-                con.place_step(&mut levels[(k + 1) * n..(k + 2) * n], k, (bits[k], flat >> k & 1 == 1), tol, reach);
+            let (dk, placed) = con.place_step(positions, k, (bits[k], flat >> k & 1 == 1), tol, reach);
             if placed.is_err() {
                 self.view.extend_from_slice(&distances[..k]);
                 self.view.push(dk);
@@ -261,7 +261,7 @@ impl<T: Real + PlaceBits> Kept<T> {
             place.placed += 1;
         }
         self.view.extend_from_slice(&distances[..upto]);
-        self.view.push(con.base_distance(&levels[upto * n..(upto + 1) * n], upto));
+        self.view.push(con.base_distance(positions, upto));
         &self.view
     }
 }
@@ -1119,12 +1119,23 @@ mod tests {
                 let flat: Vec<usize> = end.events.iter().map(|e| e.step).collect();
                 flat_before_last += usize::from(flat.iter().any(|&s| s + 1 < n));
                 let lambda = Ball::exact(end.lambda);
+                // Every type in two orders, each asked to the last step and
+                // to a shallower one (a shorter question after a longer one
+                // resumes below positions the longer one placed).
                 for code in (0..1usize << n).chain((0..1usize << n).rev()) {
                     let bits: Vec<bool> = (0..n).map(|i| code >> i & 1 == 1).collect();
-                    let fresh = balls.base_distances_flat(lambda, &bits, n - 1, &flat);
-                    let got = kept.distances(balls, lambda, &bits, n - 1, mask);
-                    let parts = |d: &[Ball<f64>]| d.iter().map(|b| (b.m, b.r)).collect::<Vec<_>>();
-                    assert_eq!(parts(got), parts(&fresh), "base {base:?} at {} type {bits:?}", end.lambda);
+                    for upto in [n - 1, 1 + code % (n - 1)] {
+                        let flat: Vec<usize> = flat.iter().copied().filter(|&s| s < upto).collect();
+                        let fresh = balls.base_distances_flat(lambda, &bits, upto, &flat);
+                        let got = kept.distances(balls, lambda, &bits, upto, mask);
+                        let parts = |d: &[Ball<f64>]| d.iter().map(|b| (b.m, b.r)).collect::<Vec<_>>();
+                        assert_eq!(
+                            parts(got),
+                            parts(&fresh),
+                            "base {base:?} at {} type {bits:?} to {upto}",
+                            end.lambda
+                        );
+                    }
                 }
             }
         }
