@@ -958,7 +958,8 @@ impl Certifier {
     ) -> Option<Ball<T>> {
         // One block of positions for every realization of the search.
         let pos = RefCell::new(Vec::new());
-        let slack_ball = |x: T| Self::flat_slack_ball(con, &mut pos.borrow_mut(), bits, event, x);
+        let ancestors = con.ancestors(event.step);
+        let slack_ball = |x: T| Self::flat_slack_ball(con, &mut pos.borrow_mut(), &ancestors, bits, event, x);
         let centre = T::from_dd(lambda);
         let scale = con.scale;
         // A slack whose ball at the centre is already wider than the widest
@@ -987,15 +988,16 @@ impl Certifier {
     /// The ball of the slack of `event`'s step at exactly `x`, or `None`
     /// where its prefix fails or a ball it depends on overflowed (that
     /// proves nothing downstream: the realization stops there).
+    /// `ancestors` are the flat step's ([`Construction::ancestors`]).
     fn flat_slack_ball<T: Real>(
         con: &Construction<Ball<T>>,
         pos: &mut Vec<P2<Ball<T>>>,
+        ancestors: &[bool],
         bits: &[bool],
         event: Event,
         x: T,
     ) -> Option<Ball<T>> {
         let s = &con.steps[event.step];
-        let ancestors = con.ancestors(event.step);
         let overflowed = |j: usize, d: &Ball<T>| ancestors[j] && !d.r.is_finite();
         let d = con.prefix_distance_unless(pos, Ball::exact(x), bits, event.step, overflowed).ok()??;
         Some(event.kind.slack_value(s.r1, s.r2, d))
@@ -1007,7 +1009,8 @@ impl Certifier {
     /// [`Self::search_bracket`], which gives up there).
     fn dd_balls_overflow_at(&self, bits: &[bool], at: At) -> bool {
         let (Some(&event), Some(con)) = (at.events.first(), self.dd_balls()) else { return false };
-        let ball = Self::flat_slack_ball(con, &mut Vec::new(), bits, event, Dd::new(at.lambda));
+        let ancestors = con.ancestors(event.step);
+        let ball = Self::flat_slack_ball(con, &mut Vec::new(), &ancestors, bits, event, Dd::new(at.lambda));
         ball.is_none_or(|b| !b.r.is_finite())
     }
 
