@@ -415,7 +415,7 @@ impl<T: Real> Sweep<'_, T> {
         }
         let mut refined: Vec<Piece<T>> = Vec::new();
         for p in pieces {
-            refined.extend(self.refine_once(k, bits, p));
+            self.refine_once(k, bits, p, &mut refined);
         }
         if refined.is_empty() {
             return;
@@ -427,12 +427,12 @@ impl<T: Real> Sweep<'_, T> {
         }
     }
 
-    /// [`Self::refine`], or its result for an earlier prefix that agrees on
-    /// every bit step k depends on (see [`RefineKey`]), with the notes and
-    /// estimated decisions it recorded (so the record is the one a second
-    /// refinement would make).
-    fn refine_once(&mut self, k: usize, bits: &[bool], piece: &Piece<T>) -> Vec<Piece<T>> {
-        let Some(depends) = self.depends[k] else { return self.refine(k, bits, piece) };
+    /// [`Self::refine`] appended to `out`, or its result for an earlier
+    /// prefix that agrees on every bit step k depends on (see
+    /// [`RefineKey`]), with the notes and estimated decisions it recorded
+    /// (so the record is the one a second refinement would make).
+    fn refine_once(&mut self, k: usize, bits: &[bool], piece: &Piece<T>, out: &mut Vec<Piece<T>>) {
+        let Some(depends) = self.depends[k] else { return out.extend(self.refine(k, bits, piece)) };
         let end = |e: &Endpoint<T>| {
             let mask = |kind: Kind| e.events.iter().filter(|ev| ev.kind == kind).fold(0u128, |m, ev| m | 1 << ev.step);
             (e.id, e.events.first().copied(), mask(Kind::Stretched), mask(Kind::Folded))
@@ -443,20 +443,17 @@ impl<T: Real> Sweep<'_, T> {
         if let Some(done) = self.refined.get(&key) {
             self.notes.extend_from_slice(&done.notes);
             self.cert.count_estimated(done.estimated);
-            return done.pieces.clone();
+            return out.extend_from_slice(&done.pieces);
         }
         let (notes, estimated) = (self.notes.len(), self.cert.estimated());
         let pieces = self.refine(k, bits, piece);
+        out.extend_from_slice(&pieces);
         if self.refined.len() >= tolerance::REFINEMENTS_KEPT {
             self.refined.clear();
         }
-        let done = Refined {
-            pieces: pieces.clone(),
-            notes: self.notes[notes..].to_vec(),
-            estimated: self.cert.estimated() - estimated,
-        };
+        let done =
+            Refined { pieces, notes: self.notes[notes..].to_vec(), estimated: self.cert.estimated() - estimated };
         self.refined.insert(key, done);
-        pieces
     }
 
     /// d_k at λ for the prefix `bits`, with its first and second derivative
