@@ -558,12 +558,18 @@ impl<T: Real> Sweep<'_, T> {
             return self.refine_point(k, piece, &roots, ends[0]);
         }
         let event = |r: &Root<T>| Event { step: k, kind: r.kind };
-        let mut inside: Vec<Root<T>> = roots.iter().copied().filter(|r| r.at == At::Inside).collect();
+        // The roots in λ order: those at lo, those inside, those at hi (the
+        // list itself becomes the inside ones; the ends' are seldom any).
+        let (lo_end, hi_start) = (roots.partition_point(|r| r.at == At::Lo), roots.partition_point(|r| r.at != At::Hi));
+        debug_assert!(roots[lo_end..hi_start].iter().all(|r| r.at == At::Inside));
+        let at_lo: Vec<Root<T>> = roots[..lo_end].to_vec();
+        let at_hi: Vec<Root<T>> = roots[hi_start..].to_vec();
+        let mut inside = roots;
+        inside.truncate(hi_start);
+        inside.drain(..lo_end);
         // Step k's proven slacks at each candidate that is far from being
         // this prefix's root (see `off_root_signs`).
         let mut off_root: Vec<Option<[Sign; 2]>> = inside.iter().map(|r| self.off_root_signs(k, bits, r)).collect();
-        let at_lo: Vec<Root<T>> = roots.iter().copied().filter(|r| r.at == At::Lo).collect();
-        let at_hi: Vec<Root<T>> = roots.iter().copied().filter(|r| r.at == At::Hi).collect();
         // Boundaries and the feasibility of each gap between them.
         let mut feasible: Vec<bool> = Vec::with_capacity(inside.len() + 1);
         let n_gaps = inside.len() + 1;
