@@ -288,8 +288,8 @@ pub struct Construction<T> {
 
 /// Every cluster's local shape: its joints with their positions in the
 /// cluster's own frame, `shapes[c]` for cluster c (empty where no step
-/// needs it). Held in one block, each shape a slice of it (one allocation
-/// for all, not one per cluster).
+/// needs it). Held in one block, each shape a slice of it: a list per
+/// cluster was a quarter of a Jansen construction's allocations.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Shapes<T> {
     points: Vec<(usize, P2<T>)>,
