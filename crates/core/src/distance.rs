@@ -740,8 +740,7 @@ mod tests {
     #[test]
     fn an_unbounded_best_pair_is_never_a_reached_gap() {
         let ccv = [[0, 1]];
-        let con =
-            Construction::<f64> { n_joints: 2, base: [0, 1], steps: vec![], scale: 1.0, shapes: Default::default() };
+        let con = Construction::<f64> { n_joints: 2, base: [0, 1], steps: vec![], scale: 1.0, shapes: vec![] };
         let mut search = Search {
             pieces: (Pieces::new(&con, &ccv, &[]), Pieces::new(&con, &ccv, &[])),
             heap: BinaryHeap::new(),

@@ -283,64 +283,7 @@ pub struct Construction<T> {
     /// Scene scale (see [`crate::tolerance`]).
     pub scale: f64,
     /// Local shape of every cluster node (indexed like `ClusterSet::nodes`).
-    pub shapes: Shapes<T>,
-}
-
-/// Every cluster's local shape: its joints with their positions in the
-/// cluster's own frame, `shapes[c]` for cluster c (empty where no step
-/// needs it). Held in one block, each shape a slice of it: a list per
-/// cluster was a quarter of a Jansen construction's allocations.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Shapes<T> {
-    points: Vec<(usize, P2<T>)>,
-    /// Shape c is `points[starts[c]..starts[c + 1]]`.
-    starts: Vec<usize>,
-}
-
-impl<T: Copy> Shapes<T> {
-    /// No shapes yet, with room for `clusters` of them.
-    fn with_capacity(clusters: usize) -> Self {
-        let mut starts = Vec::with_capacity(clusters + 1);
-        starts.push(0);
-        Shapes { points: Vec::with_capacity(2 * clusters), starts }
-    }
-
-    /// The number of clusters.
-    pub fn len(&self) -> usize {
-        self.starts.len() - 1
-    }
-
-    /// Whether there is no cluster.
-    pub fn is_empty(&self) -> bool {
-        self.len() == 0
-    }
-
-    /// Ends the shape whose points were added since the last one ended.
-    fn close(&mut self) {
-        self.starts.push(self.points.len());
-    }
-
-    /// The same shapes with every coordinate mapped by `c`.
-    fn map<U>(&self, c: impl Fn(T) -> U) -> Shapes<U> {
-        Shapes {
-            points: self.points.iter().map(|&(j, p)| (j, [c(p[0]), c(p[1])])).collect(),
-            starts: self.starts.clone(),
-        }
-    }
-}
-
-impl<T> Default for Shapes<T> {
-    /// No cluster.
-    fn default() -> Self {
-        Shapes { points: Vec::new(), starts: vec![0] }
-    }
-}
-
-impl<T> std::ops::Index<usize> for Shapes<T> {
-    type Output = [(usize, P2<T>)];
-    fn index(&self, c: usize) -> &Self::Output {
-        &self.points[self.starts[c]..self.starts[c + 1]]
-    }
+    pub shapes: Vec<Vec<(usize, P2<T>)>>,
 }
 
 /// Why a (λ, type) has no realization.
@@ -563,7 +506,9 @@ fn rigid_map<T: Real>(p0: P2<T>, p1: P2<T>, q0: P2<T>, q1: P2<T>) -> impl Fn(P2<
     }
 }
 
-fn shape_pos<T: Real>(shape: &[(usize, P2<T>)], joint: usize) -> P2<T> {
+type Shape<T> = Vec<(usize, P2<T>)>;
+
+fn shape_pos<T: Real>(shape: &Shape<T>, joint: usize) -> P2<T> {
     shape.iter().find(|(j, _)| *j == joint).map(|&(_, p)| p).expect("joint in cluster shape")
 }
 
@@ -600,7 +545,7 @@ impl<T: Real> Construction<T> {
                     first_reads: s.first_reads.clone(),
                 })
                 .collect(),
-            shapes: self.shapes.map(c),
+            shapes: self.shapes.iter().map(|sh| sh.iter().map(|&(j, p)| (j, [c(p[0]), c(p[1])])).collect()).collect(),
         }
     }
 }
@@ -617,7 +562,7 @@ impl Construction<f64> {
             s.r2 *= f;
             s.sum_diff = sum_diff(s.r1, s.r2);
         }
-        for p in &mut c.shapes.points {
+        for p in c.shapes.iter_mut().flatten() {
             p.1 = [p.1[0] * f, p.1[1] * f];
         }
         c
@@ -632,7 +577,7 @@ impl Construction<f64> {
 /// triangle below it (whose rounding, and whose balls' radii, grow with the
 /// depth of the merge tree: a strip of 100 triangles lost its realization).
 /// Clusters no needed shape is built from are left empty.
-fn cluster_shapes<T: Real>(linkage: &Linkage, dec: &Decomposition) -> Result<Shapes<T>, ShapeError> {
+fn cluster_shapes<T: Real>(linkage: &Linkage, dec: &Decomposition) -> Result<Vec<Shape<T>>, ShapeError> {
     let clusters = &dec.clusters;
     let n = clusters.nodes.len();
     // Per node: taken from the drawing, and needed (one block for both).
@@ -664,10 +609,10 @@ fn cluster_shapes<T: Real>(linkage: &Linkage, dec: &Decomposition) -> Result<Sha
             parts.iter().for_each(|&c| flags[c] |= NEEDED);
         }
     }
-    let mut shapes: Shapes<T> = Shapes::with_capacity(n);
+    let mut shapes: Vec<Shape<T>> = Vec::with_capacity(n);
     for (i, node) in clusters.nodes.iter().enumerate() {
         if flags[i] & NEEDED == 0 {
-            shapes.close();
+            shapes.push(Vec::new());
             continue;
         }
         if flags[i] & DRAWN != 0 && node.joints.len() > 2 {
@@ -678,20 +623,19 @@ fn cluster_shapes<T: Real>(linkage: &Linkage, dec: &Decomposition) -> Result<Sha
                 let p = linkage.drawn_exact[j];
                 [T::from_dd(p[0] - origin[0]), T::from_dd(p[1] - origin[1])]
             };
-            shapes.points.extend(node.joints.iter().map(|&j| (j, at(j))));
-            shapes.close();
+            shapes.push(node.joints.iter().map(|&j| (j, at(j))).collect());
             continue;
         }
-        match &node.origin {
+        let shape = match &node.origin {
             Origin::Bar(i) => {
                 let bar = &linkage.bars[*i];
                 let l = T::from_dd(bar.exact);
-                shapes.points.extend([(bar.joints[0], [T::zero(), T::zero()]), (bar.joints[1], [l, T::zero()])]);
+                vec![(bar.joints[0], [T::zero(), T::zero()]), (bar.joints[1], [l, T::zero()])]
             }
             Origin::Body(i) => {
-                shapes.points.extend(linkage.bodies[*i].iter().map(|&j| (j, linkage.drawn_exact[j].map(T::from_dd))));
+                linkage.bodies[*i].iter().map(|&j| (j, linkage.drawn_exact[j].map(T::from_dd))).collect()
             }
-            Origin::Base => {}
+            Origin::Base => Vec::new(),
             Origin::Triangle { parts, shared: [p, q, r] } => {
                 // parts[0] ∋ r, p; parts[1] ∋ p, q; parts[2] ∋ q, r.
                 let side = |c: usize, x: usize, y: usize| norm(sub(shape_pos(&shapes[c], x), shape_pos(&shapes[c], y)));
@@ -713,25 +657,24 @@ fn cluster_shapes<T: Real>(linkage: &Linkage, dec: &Decomposition) -> Result<Sha
                             rp.to_f64()
                         ))
                     })?;
-                // Appended after the parts' shapes, which it reads by index.
-                let start = shapes.points.len();
+                let mut out: Shape<T> = Vec::new();
                 for (c, x, y, tx, ty) in
                     [(parts[0], *r, *p, tr, tp), (parts[1], *p, *q, tp, tq), (parts[2], *q, *r, tq, tr)]
                 {
                     let map = rigid_map(shape_pos(&shapes[c], x), shape_pos(&shapes[c], y), tx, ty);
-                    for i in shapes.starts[c]..shapes.starts[c + 1] {
-                        let (j, pos) = shapes.points[i];
-                        if !shapes.points[start..].iter().any(|(k, _)| *k == j) {
-                            shapes.points.push((j, map(pos)));
+                    for &(j, pos) in &shapes[c] {
+                        if !out.iter().any(|(k, _)| *k == j) {
+                            out.push((j, map(pos)));
                         }
                     }
                 }
+                out
             }
             Origin::Overlap { .. } => {
                 return Err(ShapeError("over-constrained clusters have no consistent shape".into()));
             }
-        }
-        shapes.close();
+        };
+        shapes.push(shape);
     }
     Ok(shapes)
 }
