@@ -559,7 +559,7 @@ impl<T: Real> Sweep<'_, T> {
         }
         let event = |r: &Root<T>| Event { step: k, kind: r.kind };
         // The roots in λ order: those at lo, those inside, those at hi (the
-        // list itself becomes the inside ones; the ends' are seldom any).
+        // list itself becomes the inside ones; roots at the ends are rare).
         let (lo_end, hi_start) = (roots.partition_point(|r| r.at == At::Lo), roots.partition_point(|r| r.at != At::Hi));
         debug_assert!(roots[lo_end..hi_start].iter().all(|r| r.at == At::Inside));
         let at_lo: Vec<Root<T>> = roots[..lo_end].to_vec();

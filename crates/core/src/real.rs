@@ -811,7 +811,7 @@ mod tests {
         // A result's own rounding is its relative term where that is at
         // least 2^-968, and MIN_POSITIVE more below; a NaN keeps a NaN radius.
         let big = exact(1e-270) + exact(1e-280);
-        assert_eq!(big.r, 4.0 * f64::EPSILON / 2.0 * big.m * RADIUS_ROUNDING);
+        assert_eq!(big.r, <f64 as Real>::OPERATION_ERROR * big.m * RADIUS_ROUNDING);
         let small = exact(1e-300) + exact(0.0);
         assert!(small.r >= f64::MIN_POSITIVE && small.r <= 1.01 * f64::MIN_POSITIVE);
         let nan = Ball { m: f64::NAN, r: 0.0 } + exact(1.0);
