@@ -687,6 +687,10 @@ impl<T: Real> Construction<T> {
             let (p, q) = (shape_pos(&shapes[c], pivot), shape_pos(&shapes[c], apex_joint));
             let e = sub(q, p);
             let length = norm(e);
+            // A bar has no members: no unit vector to divide out.
+            if shapes[c].len() <= 2 {
+                return (length, Vec::new());
+            }
             // unit(e), from the norm just taken (one hypot, not two).
             let eh = [e[0] / length, e[1] / length];
             let list = shapes[c]
