@@ -562,11 +562,9 @@ impl<T: Real> Sweep<'_, T> {
         // list itself becomes the inside ones; roots at the ends are rare).
         let (lo_end, hi_start) = (roots.partition_point(|r| r.at == At::Lo), roots.partition_point(|r| r.at != At::Hi));
         debug_assert!(roots[lo_end..hi_start].iter().all(|r| r.at == At::Inside));
-        let at_lo: Vec<Root<T>> = roots[..lo_end].to_vec();
-        let at_hi: Vec<Root<T>> = roots[hi_start..].to_vec();
         let mut inside = roots;
-        inside.truncate(hi_start);
-        inside.drain(..lo_end);
+        let at_hi = inside.split_off(hi_start);
+        let at_lo: Vec<Root<T>> = inside.drain(..lo_end).collect();
         // Step k's proven slacks at each candidate that is far from being
         // this prefix's root (see `off_root_signs`).
         let mut off_root: Vec<Option<[Sign; 2]>> = inside.iter().map(|r| self.off_root_signs(k, bits, r)).collect();

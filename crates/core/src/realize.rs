@@ -687,7 +687,7 @@ impl<T: Real> Construction<T> {
             let (p, q) = (shape_pos(&shapes[c], pivot), shape_pos(&shapes[c], apex_joint));
             let e = sub(q, p);
             let length = norm(e);
-            // A bar has no members: no unit vector to divide out.
+            // A two-joint cluster (a bar) has no members: no unit vector to divide out.
             if shapes[c].len() <= 2 {
                 return (length, Vec::new());
             }
