@@ -552,14 +552,14 @@ pub fn trace_csv(
     let name = |j: usize| &linkage.names[j];
     let mut row = String::from("index,lambda,type,jump");
     for &j in &columns.joints {
-        let _ = write!(row, ",{0}.x,{0}.y", name(j));
+        let _ = write!(row, ",{},{}", csv_field(&format!("{}.x", name(j))), csv_field(&format!("{}.y", name(j))));
     }
     if let Some(bar) = columns.angle {
-        let _ = write!(row, ",{}-{}.angle", name(bar.pivot), name(bar.tip));
+        let _ = write!(row, ",{}", csv_field(&format!("{}-{}.angle", name(bar.pivot), name(bar.tip))));
     }
     if columns.cayley {
         for &[p, q] in &s.complexity.ccv {
-            let _ = write!(row, ",{}-{}", name(p), name(q));
+            let _ = write!(row, ",{}", csv_field(&format!("{}-{}", name(p), name(q))));
         }
     }
     row.push('\n');
@@ -584,6 +584,16 @@ pub fn trace_csv(
         out.write_all(row.as_bytes())?;
     }
     Ok(stepper.summary().clone())
+}
+
+/// A CSV field as RFC 4180 writes it: quoted, with inner quotes doubled,
+/// where it holds a comma, a quote or a line break (a joint named `a,b`).
+fn csv_field(text: &str) -> std::borrow::Cow<'_, str> {
+    if text.contains([',', '"', '\n', '\r']) {
+        format!("\"{}\"", text.replace('"', "\"\"")).into()
+    } else {
+        text.into()
+    }
 }
 
 /// An SVG and what its walk met.

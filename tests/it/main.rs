@@ -10,6 +10,7 @@ mod contract;
 mod drive;
 mod edit;
 mod graph;
+mod hostile;
 mod lazy;
 mod minimal;
 mod motion;

@@ -183,16 +183,28 @@ pub fn parse_scene(text: &str, source: &str, default_name: &str) -> Result<Scene
     Ok(Scene { name, description, source: source.to_string(), joints, bars, bodies, base, ground })
 }
 
-/// Read and parse a scene file; non-UTF-8 bytes and I/O errors become [`SceneError`]s.
+/// The largest scene file read: a 100,000-step chain takes about 30 MB, so
+/// anything past this is not a scene (`/dev/zero`, a stray binary), and is
+/// refused before it is held in memory.
+pub const MAX_SCENE_BYTES: u64 = 40 << 20;
+
+/// Read and parse a scene file; non-UTF-8 bytes, I/O errors and files over
+/// [`MAX_SCENE_BYTES`] become [`SceneError`]s.
 /// The file stem is the scene's name when the file has no `name` key.
 pub fn load_scene(path: &Path) -> Result<Scene, SceneError> {
+    use std::io::Read;
     let file = path.display().to_string();
-    let bytes = std::fs::read(path).map_err(|e| SceneError {
-        file: file.clone(),
-        line: None,
-        column: None,
-        message: format!("cannot read: {e}"),
-    })?;
+    let error = |message: String| SceneError { file: file.clone(), line: None, column: None, message };
+    let mut bytes = Vec::new();
+    std::fs::File::open(path)
+        .and_then(|f| f.take(MAX_SCENE_BYTES + 1).read_to_end(&mut bytes))
+        .map_err(|e| error(format!("cannot read: {e}")))?;
+    if bytes.len() as u64 > MAX_SCENE_BYTES {
+        return Err(error(format!(
+            "the file is larger than {} MiB: not a scene (a 100,000-step chain takes about 30 MB)",
+            MAX_SCENE_BYTES >> 20
+        )));
+    }
     let text = match String::from_utf8(bytes) {
         Ok(text) => text,
         Err(e) => return Err(not_utf8_error(&file, e.as_bytes(), e.utf8_error())),

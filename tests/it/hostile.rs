@@ -1,0 +1,54 @@
+//! Hostile input (issue 40, items 7 and 8): files too large to be a scene are
+//! refused fast, and joint names that CSV must quote keep every row's width.
+
+use crate::helpers::*;
+
+#[test]
+fn files_too_large_to_be_a_scene_are_refused_before_being_read_whole() {
+    let dir = scratch("hostile");
+    // A 50 MB file (sparse: it costs no disk) and /dev/zero, which never ends.
+    let big = dir.join("big.toml");
+    std::fs::File::create(&big).unwrap().set_len(50_000_000).unwrap();
+    for path in [big.to_str().unwrap(), "/dev/zero"] {
+        let out = caymos(&["report", path]);
+        assert_eq!(out.status.code(), Some(1), "{path}: {}", stderr(&out));
+        let err = stderr(&out);
+        assert!(err.contains(path) && err.contains("larger than 40 MiB"), "{err}");
+    }
+}
+
+#[test]
+fn csv_quotes_joint_names_holding_commas_and_quotes() {
+    let dir = scratch("csv-quote");
+    let scene = dir.join("quoted.toml");
+    // The crank-rocker with joints named `a,b` and `q"t`.
+    let text = std::fs::read_to_string("linkages/fourbar-crank-rocker.toml").unwrap();
+    let renamed = text
+        .replace("\"B\"", "\"a,b\"")
+        .replace("\nB =", "\n\"a,b\" =")
+        .replace("\"C\"", "\"q\\\"t\"")
+        .replace("\nC =", "\n\"q\\\"t\" =");
+    std::fs::write(&scene, renamed).unwrap();
+    let out = caymos(&["trace", scene.to_str().unwrap(), "--step", "0.5", "--cayley"]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let csv = stdout(&out);
+    let header = csv.lines().next().unwrap();
+    assert!(header.contains("\"a,b.x\",\"a,b.y\""), "{header}");
+    assert!(header.contains("\"q\"\"t.x\""), "{header}");
+    // Every row has the header's number of fields, counted as RFC 4180 does.
+    let fields = |line: &str| {
+        let mut quoted = false;
+        1 + line
+            .chars()
+            .filter(|&c| {
+                quoted ^= c == '"';
+                c == ',' && !quoted
+            })
+            .count()
+    };
+    let width = fields(header);
+    assert!(csv.lines().count() > 10);
+    for line in csv.lines() {
+        assert_eq!(fields(line), width, "{line}");
+    }
+}
