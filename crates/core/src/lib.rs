@@ -48,6 +48,7 @@ pub mod complexity;
 pub mod decompose;
 pub mod distance;
 pub mod enclosure;
+pub mod exact;
 pub mod interval;
 pub mod inthash;
 pub mod invert;
