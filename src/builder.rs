@@ -21,7 +21,13 @@ impl SceneBuilder {
 
     /// Add a joint and return its index.
     pub fn joint(&mut self, name: &str, pos: [f64; 2]) -> usize {
-        self.joints.push(Joint { name: name.to_string(), pos, exact: pos.map(Dd::new), line: 0 });
+        self.joints.push(Joint {
+            name: name.to_string(),
+            pos,
+            exact: pos.map(Dd::new),
+            written: [None, None],
+            line: 0,
+        });
         self.joints.len() - 1
     }
 
@@ -31,19 +37,31 @@ impl SceneBuilder {
 
     pub fn bar(&mut self, a: &str, b: &str) -> &mut Self {
         let joints = [self.index(a), self.index(b)];
-        self.bars.push(Bar { joints, length: None, exact_length: None, line: 0 });
+        self.bars.push(Bar { joints, length: None, exact_length: None, written_length: None, line: 0 });
         self
     }
 
     /// A bar with a stated length (the drawing becomes a sketch).
     pub fn bar_len(&mut self, a: &str, b: &str, length: f64) -> &mut Self {
         let joints = [self.index(a), self.index(b)];
-        self.bars.push(Bar { joints, length: Some(length), exact_length: Some(Dd::new(length)), line: 0 });
+        self.bars.push(Bar {
+            joints,
+            length: Some(length),
+            exact_length: Some(Dd::new(length)),
+            written_length: None,
+            line: 0,
+        });
         self
     }
 
     pub fn bar_ix(&mut self, a: usize, b: usize, length: Option<f64>) -> &mut Self {
-        self.bars.push(Bar { joints: [a, b], length, exact_length: length.map(Dd::new), line: 0 });
+        self.bars.push(Bar {
+            joints: [a, b],
+            length,
+            exact_length: length.map(Dd::new),
+            written_length: None,
+            line: 0,
+        });
         self
     }
 

@@ -270,8 +270,8 @@ fn closest_through_the_binary_reports_its_certificate() {
 }
 
 /// Mirror pairs are decided in proven arithmetic: bars only is proven, a
-/// rigid triangle proven not, three joints on a line as written is flat to
-/// double-double resolution only, said as a warning and not certified.
+/// rigid triangle proven not, three joints on a line as written proven
+/// flat (exactly, from the decimals), so proven too.
 #[test]
 fn mirror_pairs_are_proven_or_said_to_be_at_resolution() {
     use caymos::analysis::Warning;
@@ -292,15 +292,15 @@ C = [3, 2]
 D = [3.5, 0]
 "#;
     let (a, s) = solve_text(straight_coupler, "straight.toml");
-    assert_eq!(s.mirrors, Mirrors::AtResolution);
-    assert!(a.warnings.contains(&Warning::MirrorsAtResolution), "{:?}", a.warnings);
+    assert_eq!(s.mirrors, Mirrors::Yes);
+    assert!(!a.warnings.contains(&Warning::MirrorsAtResolution), "{:?}", a.warnings);
     // A Grashof crank-rocker (1 + 3.5 < √10 + √4.25): two components, mirror images.
     assert_eq!(s.components.list.len(), 2);
     let (ca, cb) = (&s.components.list[0], &s.components.list[1]);
     let c = closest_pair(&s.construction, s.mirrors, &s.space, &s.complexity.ccv, (ca, cb), ClosestOptions::default())
         .unwrap();
     assert_eq!(c.certificate.outcome, Outcome::Mirror);
-    assert!(!c.certificate.certified, "flat only to double-double resolution: not a proof");
+    assert!(c.certificate.certified, "flat proven exactly: the mirror pair is a proof");
 }
 
 /// The budget is work, not boxes alone: each box encloses pieces through

@@ -9,6 +9,7 @@ mod closest;
 mod contract;
 mod drive;
 mod edit;
+mod exact;
 mod graph;
 mod hostile;
 mod lazy;

@@ -6,6 +6,7 @@
 use petgraph::graph::{NodeIndex, UnGraph};
 use petgraph::visit::Dfs;
 
+use crate::exact::Decimal;
 use crate::real::{Dd, Real};
 use crate::scene::Scene;
 
@@ -19,6 +20,9 @@ pub struct LinkBar {
     /// The length from the input as written (stated, or the distance of the
     /// written coordinates) in double-double; `length` is it rounded.
     pub exact: Dd,
+    /// The stated length as written, exactly, where `exact` is its
+    /// double-double (`None`: not stated, or changed in code since).
+    pub written: Option<Decimal>,
     /// Difference stated − drawn length (zero when the length is not stated).
     pub sketch_error: f64,
     /// The 1-based line of the scene file it is declared on (0: made in code).
@@ -36,6 +40,9 @@ pub struct Linkage {
     pub drawn: Vec<[f64; 2]>,
     /// The same as written, in double-double.
     pub drawn_exact: Vec<[Dd; 2]>,
+    /// The same as written, exactly, where `drawn_exact` is its
+    /// double-double (`None`: made or changed in code).
+    pub drawn_written: Vec<[Option<Decimal>; 2]>,
     /// The bars, in scene order.
     pub bars: Vec<LinkBar>,
     /// Rigid bodies: the joints of each, 3 or more.
@@ -62,6 +69,14 @@ impl Linkage {
         let exact = |text: Dd, value: f64| if text.to_f64() == value { text } else { Dd::new(value) };
         let drawn_exact: Vec<[Dd; 2]> =
             scene.joints.iter().map(|j| [exact(j.exact[0], j.pos[0]), exact(j.exact[1], j.pos[1])]).collect();
+        // The decimal where the double-double read is still its own.
+        let written = |w: &Option<Decimal>, dd: Dd| w.clone().filter(|w| w.dd() == Some(dd));
+        let drawn_written: Vec<[Option<Decimal>; 2]> = scene
+            .joints
+            .iter()
+            .zip(&drawn_exact)
+            .map(|(j, e)| [written(&j.written[0], e[0]), written(&j.written[1], e[1])])
+            .collect();
         let bars: Vec<LinkBar> = scene
             .bars
             .iter()
@@ -80,6 +95,7 @@ impl Linkage {
                     joints: b.joints,
                     length,
                     exact,
+                    written: written(&b.written_length, exact),
                     sketch_error: length - d,
                     line: b.line,
                     stated: b.length.is_some(),
@@ -102,6 +118,7 @@ impl Linkage {
             names: scene.joints.iter().map(|j| j.name.clone()).collect(),
             drawn,
             drawn_exact,
+            drawn_written,
             bars,
             bodies,
             body_lines: scene.bodies.iter().map(|b| b.line).collect(),

@@ -3,7 +3,7 @@
 //! arithmetic, used to measure the f64 error) and in [`Jet`] (value plus first
 //! and second derivative, for exact sign tests of a slack at its root).
 
-use crate::realize::{P2, Triangle};
+use crate::realize::{Input, P2, Triangle};
 use std::fmt::Debug;
 use std::ops::{Add, Div, Mul, Neg, Sub};
 
@@ -33,6 +33,16 @@ pub trait Real:
     /// this type: rounded for f64, exact for [`Dd`], with its rounding as
     /// radius for a [`Ball`].
     fn from_dd(x: Dd) -> Self;
+    /// A number the construction reads from the scene: from its
+    /// double-double, as every floating-point type reads it (the exact
+    /// stage reads the decimals as written instead).
+    fn input(x: Input) -> Self {
+        match x {
+            Input::Value((dd, _)) => Self::from_dd(dd),
+            Input::Offset([p, q]) => Self::from_dd(p.0 - q.0),
+            Input::Distance(dd, _) => Self::from_dd(dd),
+        }
+    }
     /// The value rounded to f64 (for a jet: its value).
     fn to_f64(self) -> f64;
     /// Square root; a negative argument gives NaN, as for f64.

@@ -8,8 +8,9 @@
 use std::fmt;
 
 use crate::decompose::{Decomposition, Origin};
+use crate::exact::Decimal;
 use crate::linkage::Linkage;
-use crate::real::{Jet, Real};
+use crate::real::{Dd, Jet, Real};
 use crate::tolerance;
 
 /// A point `[x, y]` of the generic-scalar construction. Not nalgebra's
@@ -508,6 +509,29 @@ fn rigid_map<T: Real>(p0: P2<T>, p1: P2<T>, q0: P2<T>, q1: P2<T>) -> impl Fn(P2<
 
 type Shape<T> = Vec<(usize, P2<T>)>;
 
+/// A number of the scene as read: its double-double and, where known, the
+/// decimal it was written as.
+pub type Written<'a> = (Dd, Option<&'a Decimal>);
+
+/// A number the construction reads from the scene ([`Real::input`]).
+#[derive(Clone, Copy, Debug)]
+pub enum Input<'a> {
+    /// A stated length, or a coordinate.
+    Value(Written<'a>),
+    /// The difference p − q of two coordinates.
+    Offset([Written<'a>; 2]),
+    /// A bar's drawn length (its double-double) between two joints (their
+    /// coordinates, x then y).
+    Distance(Dd, [[Written<'a>; 2]; 2]),
+}
+
+impl Linkage {
+    /// Joint j's coordinate `axis` as read.
+    fn coordinate(&self, j: usize, axis: usize) -> Written<'_> {
+        (self.drawn_exact[j][axis], self.drawn_written[j][axis].as_ref())
+    }
+}
+
 fn shape_pos<T: Real>(shape: &Shape<T>, joint: usize) -> P2<T> {
     shape.iter().find(|(j, _)| *j == joint).map(|&(_, p)| p).expect("joint in cluster shape")
 }
@@ -618,10 +642,12 @@ fn cluster_shapes<T: Real>(linkage: &Linkage, dec: &Decomposition) -> Result<Vec
         if flags[i] & DRAWN != 0 && node.joints.len() > 2 {
             // Relative to the first joint in double-double (exact for
             // coordinates of like size), then rounded to `T`.
-            let origin = linkage.drawn_exact[node.joints[0]];
+            let origin = node.joints[0];
             let at = |j: usize| {
-                let p = linkage.drawn_exact[j];
-                [T::from_dd(p[0] - origin[0]), T::from_dd(p[1] - origin[1])]
+                let offset = |axis: usize| {
+                    T::input(Input::Offset([linkage.coordinate(j, axis), linkage.coordinate(origin, axis)]))
+                };
+                [offset(0), offset(1)]
             };
             shapes.push(node.joints.iter().map(|&j| (j, at(j))).collect());
             continue;
@@ -629,11 +655,18 @@ fn cluster_shapes<T: Real>(linkage: &Linkage, dec: &Decomposition) -> Result<Vec
         let shape = match &node.origin {
             Origin::Bar(i) => {
                 let bar = &linkage.bars[*i];
-                let l = T::from_dd(bar.exact);
+                let l = T::input(if bar.stated {
+                    Input::Value((bar.exact, bar.written.as_ref()))
+                } else {
+                    let [p, q] = bar.joints;
+                    let point = |j: usize| [linkage.coordinate(j, 0), linkage.coordinate(j, 1)];
+                    Input::Distance(bar.exact, [point(p), point(q)])
+                });
                 vec![(bar.joints[0], [T::zero(), T::zero()]), (bar.joints[1], [l, T::zero()])]
             }
             Origin::Body(i) => {
-                linkage.bodies[*i].iter().map(|&j| (j, linkage.drawn_exact[j].map(T::from_dd))).collect()
+                let point = |j: usize| [0, 1].map(|axis| T::input(Input::Value(linkage.coordinate(j, axis))));
+                linkage.bodies[*i].iter().map(|&j| (j, point(j))).collect()
             }
             Origin::Base => Vec::new(),
             Origin::Triangle { parts, shared: [p, q, r] } => {

@@ -12,6 +12,7 @@ use std::path::Path;
 
 use toml::Spanned;
 
+use crate::exact::Decimal;
 use crate::real::{Dd, Real};
 use toml::de::{DeArray, DeString, DeTable, DeValue};
 
@@ -24,6 +25,9 @@ pub struct Joint {
     pub pos: [f64; 2],
     /// The coordinates as written, in double-double (`pos` is them rounded).
     pub exact: [Dd; 2],
+    /// The coordinates as written, exactly (`None`: made in code, where
+    /// `pos` is what was written).
+    pub written: [Option<Decimal>; 2],
     /// The 1-based line it is declared on.
     pub line: usize,
 }
@@ -38,6 +42,8 @@ pub struct Bar {
     pub length: Option<f64>,
     /// The stated length as written, in double-double.
     pub exact_length: Option<Dd>,
+    /// The stated length as written, exactly (`None`: not stated, or made in code).
+    pub written_length: Option<Decimal>,
     /// The 1-based line it is declared on.
     pub line: usize,
 }
@@ -368,10 +374,10 @@ fn optional_string(doc: &Doc, table: &DeTable, key: &str) -> Result<Option<Strin
     }
 }
 
-/// A finite number (TOML integer or float), with its value as written in
-/// double-double. `what` names it in errors, e.g. `joint "A": x coordinate`.
-/// `-0` is read as `0`.
-fn exact_number(doc: &Doc, value: &Value, what: &str) -> Result<(f64, Dd), SceneError> {
+/// A finite number as written: its f64, its double-double and the exact
+/// decimal (TOML integer or float). `what` names it in errors, e.g.
+/// `joint "A": x coordinate`. `-0` is read as `0`.
+fn exact_number(doc: &Doc, value: &Value, what: &str) -> Result<(f64, Dd, Option<Decimal>), SceneError> {
     let raw = doc.raw(value.span());
     let number = match value.get_ref() {
         DeValue::Integer(int) => i64::from_str_radix(int.as_str(), int.radix())
@@ -390,7 +396,13 @@ fn exact_number(doc: &Doc, value: &Value, what: &str) -> Result<(f64, Dd), Scene
         DeValue::Float(float) => Dd::parse_decimal(float.as_str()).filter(|x| x.to_f64() == number),
         _ => None,
     };
-    Ok((number, exact.unwrap_or(Dd::new(number))))
+    let written = match value.get_ref() {
+        DeValue::Float(float) => exact.and(Decimal::parse(float.as_str())),
+        // An integer as f64 is itself where it is exact (below 2^53).
+        DeValue::Integer(_) => (number.abs() < 2f64.powi(53)).then(|| Decimal::integer(number as i64)),
+        _ => None,
+    };
+    Ok((number, exact.unwrap_or(Dd::new(number)), written))
 }
 
 /// The elements of an array value, or an error saying what was expected instead.
@@ -453,9 +465,10 @@ fn parse_joint(doc: &Doc, key: &Spanned<DeString>, value: &Value) -> Result<Join
             format!("{what}: expected a position [x, y] of 2 numbers, found {} element(s)", coords.len()),
         ));
     };
-    let (x, exact_x) = exact_number(doc, x, &format!("{what}: x coordinate"))?;
-    let (y, exact_y) = exact_number(doc, y, &format!("{what}: y coordinate"))?;
-    Ok(Joint { name: name.to_string(), pos: [x, y], exact: [exact_x, exact_y], line: doc.line(key.span()) })
+    let (x, exact_x, written_x) = exact_number(doc, x, &format!("{what}: x coordinate"))?;
+    let (y, exact_y, written_y) = exact_number(doc, y, &format!("{what}: y coordinate"))?;
+    let (pos, exact, written) = ([x, y], [exact_x, exact_y], [written_x, written_y]);
+    Ok(Joint { name: name.to_string(), pos, exact, written, line: doc.line(key.span()) })
 }
 
 /// Half the scene's scale, as the solver defines it
@@ -718,25 +731,25 @@ fn parse_bar(doc: &Doc, names: &JointNames, number: usize, item: &Value) -> Resu
     if a == b {
         return Err(doc.error_at(item, format!("{item_label}: a bar cannot join a joint to itself")));
     }
-    let (length, exact_length) = match length {
+    let (length, exact_length, written_length) = match length {
         Some(value) => {
-            let (l, exact) = positive_length(doc, value, &item_label)?;
-            (Some(l), Some(exact))
+            let (l, exact, written) = positive_length(doc, value, &item_label)?;
+            (Some(l), Some(exact), written)
         }
-        None => (None, None),
+        None => (None, None, None),
     };
-    Ok(Bar { joints: [a, b], length, exact_length, line: doc.line(item.span()) })
+    Ok(Bar { joints: [a, b], length, exact_length, written_length, line: doc.line(item.span()) })
 }
 
 /// A stated bar length: a finite number greater than zero.
-fn positive_length(doc: &Doc, value: &Value, item_label: &str) -> Result<(f64, Dd), SceneError> {
-    let (length, exact) = exact_number(doc, value, &format!("{item_label}: length"))?;
+fn positive_length(doc: &Doc, value: &Value, item_label: &str) -> Result<(f64, Dd, Option<Decimal>), SceneError> {
+    let (length, exact, written) = exact_number(doc, value, &format!("{item_label}: length"))?;
     if length <= 0.0 {
         return Err(
             doc.error_at(value, format!("{item_label}: length must be positive, found {}", doc.raw(value.span())))
         );
     }
-    Ok((length, exact))
+    Ok((length, exact, written))
 }
 
 /// Parses the optional `bodies`: an array of arrays of at least three known,

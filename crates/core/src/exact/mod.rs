@@ -35,6 +35,7 @@ use num_integer::Integer;
 use num_traits::{One, Signed, Zero};
 
 use crate::real::{Dd, Real};
+use crate::realize::{Input, Written};
 use fixed::{Fixed, big_to_f64};
 
 /// A real number as an expression over the input as written (a handle into
@@ -300,6 +301,15 @@ impl Real for Expr {
     /// The double-double's own value, exactly.
     fn from_dd(x: Dd) -> Self {
         Expr::f64(x.hi) + Expr::f64(x.lo)
+    }
+    /// The decimals as written (a value's own double-double where none is known).
+    fn input(x: Input) -> Self {
+        let value = |(dd, written): Written| written.map_or_else(|| Expr::from_dd(dd), Expr::decimal);
+        match x {
+            Input::Value(v) => value(v),
+            Input::Offset([p, q]) => value(p) - value(q),
+            Input::Distance(_, [p, q]) => Expr::hypot(value(p[0]) - value(q[0]), value(p[1]) - value(q[1])),
+        }
     }
     fn to_f64(self) -> f64 {
         approx(self)

@@ -8,14 +8,19 @@
 //! end's λ re-located in double-double. A ball that still holds zero is
 //! answered [`Sign::Zero`]: the two events coincide (or the slack touches
 //! zero) to within double-double resolution, a non-generic place that the
-//! caller reports as such.
+//! caller reports as such. The questions about the lengths alone (equal
+//! sides, coinciding targets, flat clusters) are asked last of the
+//! construction over the input as written, in exact arithmetic
+//! ([`crate::exact`]): there a zero is proven.
 //!
 //! Ball radii grow with every level of a construction far faster than the
 //! real error (each level adds its inputs' radii independently), so on deep
 //! chains (past about 12 levels in f64 and 25 in double-double) balls prove
-//! nothing. There the double-double value decides when it exceeds its error
-//! estimated from the f64 − double-double difference (see
-//! [`Certifier::estimated`] for how many decisions rested on that).
+//! nothing. There the double-double value decides when it exceeds its
+//! error estimated from the f64 − double-double difference (see
+//! [`Certifier::estimated`] for how many decisions rested on that, with
+//! the length questions whose separation bound is out of the exact
+//! stage's reach).
 //!
 //! An end λ* is the root of the flat step's slack. It is enclosed by a
 //! bracket [λ − δ, λ + δ] whose ends have proven opposite slack signs (so
@@ -25,7 +30,10 @@
 use std::cell::{Cell, RefCell};
 use std::sync::{Arc, OnceLock};
 
+mod exact_stage;
+
 use crate::decompose::Decomposition;
+use crate::exact::Expr;
 use crate::inthash::IntMap;
 use crate::linkage::Linkage;
 use crate::real::{Ball, Dd, Real, Slope};
@@ -39,7 +47,8 @@ use crate::tolerance;
 pub enum Sign {
     /// Proven below zero.
     Negative,
-    /// Zero to double-double resolution (not separable from zero).
+    /// Zero to double-double resolution (not separable from zero); proven
+    /// zero where the exact stage decided it.
     Zero,
     /// Proven above zero.
     Positive,
@@ -69,6 +78,8 @@ pub struct Certifier {
     /// and every question at the end asks for the same Newton iteration.
     refined: RefCell<IntMap<RefineKey, Dd>>,
     estimated: Cell<usize>,
+    /// Decisions the exact stage proved.
+    exact: Cell<usize>,
 }
 
 /// What a [`Certifier`] decides with, built once.
@@ -360,6 +371,7 @@ impl Certifier {
             brackets: RefCell::new(IntMap::default()),
             refined: RefCell::new(IntMap::default()),
             estimated: Cell::new(0),
+            exact: Cell::new(0),
         };
         // Unequal sides proven in f64 balls are unequal in double-double
         // balls too (a narrower enclosure of the same number); only sides
@@ -367,10 +379,12 @@ impl Certifier {
         let kinds = (0..cert.built.dec.steps.len())
             .map(|k| {
                 let s = &cert.built.f64_balls.steps[k];
-                let unequal = (s.r1 - s.r2).sign().is_some() || {
-                    let s = &cert.dd_balls()?.steps[k];
-                    (s.r1 - s.r2).sign().is_some()
-                };
+                let unequal = (s.r1 - s.r2).sign().is_some()
+                    || {
+                        let s = &cert.dd_balls()?.steps[k];
+                        (s.r1 - s.r2).sign().is_some()
+                    }
+                    || cert.exact_sign(|con| con.steps[k].r1 - con.steps[k].r2) != Sign::Zero;
                 Some(if unequal { &[Kind::Stretched, Kind::Folded][..] } else { &[Kind::Stretched][..] })
             })
             .collect::<Option<Vec<_>>>()?;
@@ -395,6 +409,7 @@ impl Certifier {
             brackets: RefCell::new(IntMap::default()),
             refined: RefCell::new(IntMap::default()),
             estimated: Cell::new(0),
+            exact: Cell::new(0),
         }
     }
 
@@ -429,10 +444,11 @@ impl Certifier {
 
     /// Whether cluster `c`'s joints lie on one line: `Some(true)` for two
     /// joints, `Some(false)` when a joint is proven off the line of the first
-    /// two (double-double balls from the lengths and coordinates as written),
-    /// `None` when every cross product is zero to double-double resolution
-    /// (flat, but not provably: a non-generic place). Differences are taken
-    /// in units of `scale`, so no product of two lengths over- or underflows.
+    /// two (f64 or double-double balls, then exactly, from the lengths and
+    /// coordinates as written), `Some(true)` when every joint is proven on
+    /// it (exactly), `None` where that is out of the exact stage's reach.
+    /// The balls take differences in units of `scale`, so no product of two
+    /// lengths over- or underflows.
     pub fn cluster_flat(&self, c: usize, scale: f64) -> Option<bool> {
         /// The proven sign of each joint's cross product with the first edge.
         fn crosses<T: Real>(shape: &[(usize, [Ball<T>; 2])], scale: f64) -> impl Iterator<Item = Option<i8>> + '_ {
@@ -452,7 +468,25 @@ impl Certifier {
             return Some(false);
         }
         let balls = self.dd_balls()?;
-        if crosses(&balls.shapes[c], scale).any(|s| s.is_some()) { Some(false) } else { None }
+        if crosses(&balls.shapes[c], scale).any(|s| s.is_some()) {
+            return Some(false);
+        }
+        let signs = exact_stage::decide(&self.built.linkage, &self.built.dec, |con| {
+            let shape = &con.shapes[c];
+            let (p, q) = (shape[0].1, shape[1].1);
+            let cross = |r: [Expr; 2]| (q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0]);
+            shape[2..].iter().map(|&(_, r)| Some(cross(r))).collect()
+        })?;
+        // One joint proven off the line proves the answer; all on it too.
+        let answer = if signs.iter().any(|s| matches!(s, Some(Sign::Positive | Sign::Negative))) {
+            Some(false)
+        } else if signs.iter().all(|s| *s == Some(Sign::Zero)) {
+            Some(true)
+        } else {
+            None
+        };
+        self.exact_counted(answer.map(|_| Sign::Zero));
+        answer
     }
 
     /// Whether two steps are flat at the same base length: the proven sign
@@ -464,7 +498,34 @@ impl Certifier {
             (a.kind.target(sa.r1, sa.r2) - b.kind.target(sb.r1, sb.r2)).sign()
         }
         let fine = || self.dd_balls().and_then(|balls| diff(balls, a, b));
-        Sign::of(diff(&self.built.f64_balls, a, b).or_else(fine)).unwrap_or(Sign::Zero)
+        Sign::of(diff(&self.built.f64_balls, a, b).or_else(fine)).unwrap_or_else(|| {
+            self.exact_sign(|con| {
+                let (sa, sb) = (&con.steps[a.step], &con.steps[b.step]);
+                a.kind.target(sa.r1, sa.r2) - b.kind.target(sb.r1, sb.r2)
+            })
+        })
+    }
+
+    /// The sign of one number over the construction in exact arithmetic
+    /// ([`exact_stage::decide`]); where it is out of reach, [`Sign::Zero`],
+    /// counted in [`Self::estimated`].
+    fn exact_sign(&self, number: impl FnOnce(&Construction<Expr>) -> Expr) -> Sign {
+        let decided = exact_stage::decide(&self.built.linkage, &self.built.dec, |con| vec![Some(number(con))]);
+        self.exact_counted(decided.and_then(|d| d[0])).unwrap_or(Sign::Zero)
+    }
+
+    /// An exact answer counted where proven, an estimate where not (`None`).
+    fn exact_counted(&self, sign: Option<Sign>) -> Option<Sign> {
+        match sign {
+            Some(_) => self.exact.set(self.exact.get() + 1),
+            None => self.estimated.set(self.estimated.get() + 1),
+        }
+        sign
+    }
+
+    /// How many decisions so far the exact stage proved (the balls could not).
+    pub fn exact_decisions(&self) -> usize {
+        self.exact.get()
     }
 
     /// The proven sign of step `k`'s slack for `kind` at `at`, for the type
