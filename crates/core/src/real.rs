@@ -508,25 +508,12 @@ impl Dd {
     /// then scaled by a power of ten, so the result is within a few units of
     /// 2^-104 of the written value. `None` for anything else (hex, inf, nan).
     pub fn parse_decimal(text: &str) -> Option<Dd> {
-        let text: String = text.trim().chars().filter(|&c| c != '_').collect();
-        let (negative, body) = match text.as_bytes().first()? {
-            b'-' => (true, &text[1..]),
-            b'+' => (false, &text[1..]),
-            _ => (false, &text[..]),
-        };
-        let (mantissa, exponent) = match body.find(['e', 'E']) {
-            Some(i) => (&body[..i], body[i + 1..].parse::<i32>().ok()?),
-            None => (body, 0),
-        };
-        let (int, frac) = mantissa.split_once('.').unwrap_or((mantissa, ""));
-        if int.is_empty() && frac.is_empty() || !(int.chars().chain(frac.chars()).all(|c| c.is_ascii_digit())) {
-            return None;
-        }
+        let (negative, digits_text, e10) = crate::exact::decimal_parts(text)?;
         let mut digits = Dd::new(0.0);
-        for c in int.chars().chain(frac.chars()) {
+        for c in digits_text.chars() {
             digits = digits.mul_f64(10.0) + Dd::new(f64::from(c as u8 - b'0'));
         }
-        let mut e10 = exponent.checked_sub(i32::try_from(frac.len()).ok()?)?;
+        let mut e10 = i32::try_from(e10).ok()?;
         // Scale in pieces so that no power of ten overflows.
         while e10 != 0 {
             let piece = e10.clamp(-300, 300);

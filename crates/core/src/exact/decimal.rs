@@ -16,26 +16,32 @@ pub struct Decimal {
     exp10: i64,
 }
 
+/// A decimal text (`-12.5e-3`, TOML's `1_000`) as its sign, its digits
+/// and the power of ten they are scaled by; `None` for anything else.
+pub(crate) fn parts(text: &str) -> Option<(bool, String, i64)> {
+    let text: String = text.trim().chars().filter(|&c| c != '_').collect();
+    let (negative, body) = match text.as_bytes().first()? {
+        b'-' => (true, &text[1..]),
+        b'+' => (false, &text[1..]),
+        _ => (false, &text[..]),
+    };
+    let (mantissa, exponent) = match body.find(['e', 'E']) {
+        Some(i) => (&body[..i], body[i + 1..].parse::<i64>().ok()?),
+        None => (body, 0),
+    };
+    let (int, frac) = mantissa.split_once('.').unwrap_or((mantissa, ""));
+    let digits: String = int.chars().chain(frac.chars()).collect();
+    if digits.is_empty() || !digits.chars().all(|c| c.is_ascii_digit()) {
+        return None;
+    }
+    Some((negative, digits, exponent.checked_sub(i64::try_from(frac.len()).ok()?)?))
+}
+
 impl Decimal {
     /// The decimal a text writes; `None` for anything else (hex, inf, nan).
     pub fn parse(text: &str) -> Option<Decimal> {
-        let text: String = text.trim().chars().filter(|&c| c != '_').collect();
-        let (negative, body) = match text.as_bytes().first()? {
-            b'-' => (true, &text[1..]),
-            b'+' => (false, &text[1..]),
-            _ => (false, &text[..]),
-        };
-        let (mantissa, exponent) = match body.find(['e', 'E']) {
-            Some(i) => (&body[..i], body[i + 1..].parse::<i64>().ok()?),
-            None => (body, 0),
-        };
-        let (int, frac) = mantissa.split_once('.').unwrap_or((mantissa, ""));
-        let digits: String = int.chars().chain(frac.chars()).collect();
-        if digits.is_empty() || !digits.chars().all(|c| c.is_ascii_digit()) {
-            return None;
-        }
+        let (negative, digits, exp10) = parts(text)?;
         let magnitude: BigInt = digits.parse().ok()?;
-        let exp10 = exponent.checked_sub(i64::try_from(frac.len()).ok()?)?;
         Some(Decimal { mantissa: if negative { -magnitude } else { magnitude }, exp10 })
     }
 

@@ -25,6 +25,7 @@ mod decimal;
 mod fixed;
 
 pub use decimal::Decimal;
+pub(crate) use decimal::parts as decimal_parts;
 
 use std::cell::RefCell;
 use std::cmp::Ordering;
