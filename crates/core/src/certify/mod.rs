@@ -376,18 +376,28 @@ impl Certifier {
         // Unequal sides proven in f64 balls are unequal in double-double
         // balls too (a narrower enclosure of the same number); only sides
         // f64 cannot separate need the double-double construction.
-        let kinds = (0..cert.built.dec.steps.len())
+        let proven_unequal = (0..cert.built.dec.steps.len())
             .map(|k| {
                 let s = &cert.built.f64_balls.steps[k];
-                let unequal = (s.r1 - s.r2).sign().is_some()
-                    || {
+                Some(
+                    (s.r1 - s.r2).sign().is_some() || {
                         let s = &cert.dd_balls()?.steps[k];
                         (s.r1 - s.r2).sign().is_some()
-                    }
-                    || cert.exact_sign(|con| con.steps[k].r1 - con.steps[k].r2) != Sign::Zero;
-                Some(if unequal { &[Kind::Stretched, Kind::Folded][..] } else { &[Kind::Stretched][..] })
+                    },
+                )
             })
-            .collect::<Option<Vec<_>>>()?;
+            .collect::<Option<Vec<bool>>>()?;
+        // The sides no ball separates, decided exactly over one construction.
+        let open: Vec<usize> = (0..proven_unequal.len()).filter(|&k| !proven_unequal[k]).collect();
+        let mut exact =
+            cert.exact_signs(open.len(), |con| open.iter().map(|&k| con.steps[k].r1 - con.steps[k].r2).collect());
+        let kinds = proven_unequal
+            .iter()
+            .map(|&proven| {
+                let unequal = proven || exact.next().expect("one per open step") != Sign::Zero;
+                if unequal { &[Kind::Stretched, Kind::Folded][..] } else { &[Kind::Stretched][..] }
+            })
+            .collect();
         let built = Arc::get_mut(&mut cert.built).expect("not shared yet");
         built.kinds = kinds;
         let twins = cert.twins();
@@ -507,11 +517,26 @@ impl Certifier {
     }
 
     /// The sign of one number over the construction in exact arithmetic
-    /// ([`exact_stage::decide`]); where it is out of reach, [`Sign::Zero`],
-    /// counted in [`Self::estimated`].
+    /// ([`Self::exact_signs`]).
     fn exact_sign(&self, number: impl FnOnce(&Construction<Expr>) -> Expr) -> Sign {
-        let decided = exact_stage::decide(&self.built.linkage, &self.built.dec, |con| vec![Some(number(con))]);
-        self.exact_counted(decided.and_then(|d| d[0])).unwrap_or(Sign::Zero)
+        self.exact_signs(1, |con| vec![number(con)]).next().expect("one number")
+    }
+
+    /// The signs of the `n` numbers `numbers` builds over one construction
+    /// in exact arithmetic ([`exact_stage::decide`]); where one is out of
+    /// reach (or no exact construction closes), [`Sign::Zero`], counted in
+    /// [`Self::estimated`].
+    fn exact_signs(
+        &self,
+        n: usize,
+        numbers: impl FnOnce(&Construction<Expr>) -> Vec<Expr>,
+    ) -> std::vec::IntoIter<Sign> {
+        let decided = exact_stage::decide(&self.built.linkage, &self.built.dec, |con| {
+            numbers(con).into_iter().map(Some).collect()
+        });
+        let decided = decided.unwrap_or_else(|| vec![None; n]);
+        let signs: Vec<Sign> = decided.into_iter().map(|d| self.exact_counted(d).unwrap_or(Sign::Zero)).collect();
+        signs.into_iter()
     }
 
     /// An exact answer counted where proven, an estimate where not (`None`).
