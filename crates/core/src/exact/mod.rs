@@ -518,6 +518,32 @@ mod tests {
         assert_eq!(<Expr as Real>::hypot(dec("-2.5"), int(0)).as_rational(), dec("2.5").as_rational());
     }
 
+    /// Random identities (√a + √b)² = a + b + 2√(ab) over decimals as
+    /// written decide zero; the same shifted by ±2^-k (k up to 400) decide
+    /// the shift's sign. A deterministic generator: no test dependency.
+    #[test]
+    fn random_identities_and_their_shifts() {
+        let _scope = Scope::enter();
+        let mut state = 0x2545_f491_4f6c_dd1d_u64;
+        let mut next = |m: u64| {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state % m
+        };
+        for _ in 0..200 {
+            let a = dec(&format!("{}.{:03}", next(1000), next(1000)));
+            let b = dec(&format!("{}.{:03}", 1 + next(1000), next(1000)));
+            let lhs = (a.sqrt() + b.sqrt()) * (a.sqrt() + b.sqrt());
+            let zero = lhs - (a + b + int(2) * (a * b).sqrt());
+            assert_eq!(zero.sign(), Decided::Sign(0));
+            let k = 1 + next(400) as i32;
+            let s = if next(2) == 0 { 1 } else { -1 };
+            let shifted = zero + Expr::f64(f64::from(s) * 2f64.powi(-k));
+            assert_eq!(shifted.sign(), Decided::Sign(s as i8), "2^-{k}");
+        }
+    }
+
     /// A square root of a proven negative has no value; |·| and max(·, 0)
     /// of a zero expression stay zero.
     #[test]
