@@ -132,6 +132,12 @@ impl Linkage {
         self.drawn.iter().map(|&p| p.into()).collect()
     }
 
+    /// Joint j's coordinate `axis` as read: its double-double and, where
+    /// known, its decimal.
+    pub fn coordinate(&self, j: usize, axis: usize) -> crate::realize::Written<'_> {
+        (self.drawn_exact[j][axis], self.drawn_written[j][axis].as_ref())
+    }
+
     /// The number of joints.
     pub fn n_joints(&self) -> usize {
         self.names.len()

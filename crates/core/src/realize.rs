@@ -525,13 +525,6 @@ pub enum Input<'a> {
     Distance(Dd, [[Written<'a>; 2]; 2]),
 }
 
-impl Linkage {
-    /// Joint j's coordinate `axis` as read.
-    fn coordinate(&self, j: usize, axis: usize) -> Written<'_> {
-        (self.drawn_exact[j][axis], self.drawn_written[j][axis].as_ref())
-    }
-}
-
 fn shape_pos<T: Real>(shape: &Shape<T>, joint: usize) -> P2<T> {
     shape.iter().find(|(j, _)| *j == joint).map(|&(_, p)| p).expect("joint in cluster shape")
 }

@@ -23,15 +23,13 @@ fn sign_of(d: Decided) -> Option<Sign> {
 
 /// The signs of the numbers `question` builds over the construction in
 /// exact arithmetic (built afresh in its own arena scope, freed on
-/// return); a number it cannot build (a step that does not close on the
-/// way) is [`Sign::Undefined`]. `None` where a cluster's shape does not
-/// close.
+/// return). `None` where a cluster's shape does not close.
 pub(super) fn decide(
     linkage: &Linkage,
     dec: &Decomposition,
-    question: impl FnOnce(&Construction<Expr>) -> Vec<Option<Expr>>,
+    question: impl FnOnce(&Construction<Expr>) -> Vec<Expr>,
 ) -> Option<Vec<Option<Sign>>> {
     let _scope = Scope::enter();
     let con = Construction::<Expr>::new(linkage, dec).ok()?;
-    Some(question(&con).into_iter().map(|e| e.map_or(Some(Sign::Undefined), |e| sign_of(e.sign()))).collect())
+    Some(question(&con).into_iter().map(|e| sign_of(e.sign())).collect())
 }

@@ -485,7 +485,7 @@ impl Certifier {
             let shape = &con.shapes[c];
             let (p, q) = (shape[0].1, shape[1].1);
             let cross = |r: [Expr; 2]| (q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0]);
-            shape[2..].iter().map(|&(_, r)| Some(cross(r))).collect()
+            shape[2..].iter().map(|&(_, r)| cross(r)).collect()
         })?;
         // One joint proven off the line proves the answer; all on it too.
         let answer = if signs.iter().any(|s| matches!(s, Some(Sign::Positive | Sign::Negative))) {
@@ -495,7 +495,7 @@ impl Certifier {
         } else {
             None
         };
-        self.exact_counted(answer.map(|_| Sign::Zero));
+        self.count_exact(answer.is_some());
         answer
     }
 
@@ -531,21 +531,23 @@ impl Certifier {
         n: usize,
         numbers: impl FnOnce(&Construction<Expr>) -> Vec<Expr>,
     ) -> std::vec::IntoIter<Sign> {
-        let decided = exact_stage::decide(&self.built.linkage, &self.built.dec, |con| {
-            numbers(con).into_iter().map(Some).collect()
-        });
+        let decided = exact_stage::decide(&self.built.linkage, &self.built.dec, numbers);
         let decided = decided.unwrap_or_else(|| vec![None; n]);
-        let signs: Vec<Sign> = decided.into_iter().map(|d| self.exact_counted(d).unwrap_or(Sign::Zero)).collect();
+        let signs: Vec<Sign> = decided
+            .into_iter()
+            .map(|d| {
+                self.count_exact(d.is_some());
+                d.unwrap_or(Sign::Zero)
+            })
+            .collect();
         signs.into_iter()
     }
 
-    /// An exact answer counted where proven, an estimate where not (`None`).
-    fn exact_counted(&self, sign: Option<Sign>) -> Option<Sign> {
-        match sign {
-            Some(_) => self.exact.set(self.exact.get() + 1),
-            None => self.estimated.set(self.estimated.get() + 1),
-        }
-        sign
+    /// Count one decision of the exact stage: proven, or out of its reach
+    /// (then the caller's answer is an estimate).
+    fn count_exact(&self, proven: bool) {
+        let count = if proven { &self.exact } else { &self.estimated };
+        count.set(count.get() + 1);
     }
 
     /// How many decisions so far the exact stage proved (the balls could not).

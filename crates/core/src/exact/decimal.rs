@@ -8,12 +8,14 @@ use crate::real::Dd;
 /// A decimal number as written in a scene (`-12.5e-3`, TOML's `1_000`):
 /// the exact rational the text means, which the exact stage starts from
 /// (the solver's floating-point arithmetics start from its double-double).
-#[derive(Clone, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct Decimal {
     /// The digits as one integer, with its sign.
     mantissa: BigInt,
     /// The power of ten the digits are scaled by.
     exp10: i64,
+    /// The text's double-double, as the scene parser reads it.
+    dd: Option<Dd>,
 }
 
 /// A decimal text (`-12.5e-3`, TOML's `1_000`) as its sign, its digits
@@ -42,12 +44,12 @@ impl Decimal {
     pub fn parse(text: &str) -> Option<Decimal> {
         let (negative, digits, exp10) = parts(text)?;
         let magnitude: BigInt = digits.parse().ok()?;
-        Some(Decimal { mantissa: if negative { -magnitude } else { magnitude }, exp10 })
+        Some(Decimal { mantissa: if negative { -magnitude } else { magnitude }, exp10, dd: Dd::parse_decimal(text) })
     }
 
     /// An integer, exactly.
     pub fn integer(n: i64) -> Decimal {
-        Decimal { mantissa: BigInt::from(n), exp10: 0 }
+        Decimal { mantissa: BigInt::from(n), exp10: 0, dd: Dd::parse_decimal(&n.to_string()) }
     }
 
     /// The value as numerator and positive denominator (not reduced).
@@ -64,7 +66,7 @@ impl Decimal {
 
     /// The text's double-double, as the scene parser reads it.
     pub fn dd(&self) -> Option<Dd> {
-        Dd::parse_decimal(&format!("{}e{}", self.mantissa, self.exp10))
+        self.dd
     }
 }
 
