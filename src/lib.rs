@@ -5,8 +5,8 @@
 //! `caymos::analysis` is `caymos_core::analysis`; the modules defined here
 //! are the ones that print, time, generate or draw.
 pub use caymos_core::{
-    analysis, cayley_space, cayley_vector, certify, complexity, decompose, distance, enclosure, interval, invert, lazy,
-    linkage, minimal_vector, motion, numfmt, real, realize, roots, scene, sweep, tolerance,
+    analysis, cayley_space, cayley_vector, certify, complexity, decompose, distance, enclosure, exact, interval,
+    invert, lazy, linkage, minimal_vector, motion, numfmt, real, realize, roots, scene, sweep, tolerance,
 };
 
 pub mod alloc;

@@ -4,6 +4,8 @@
 use caymos::analysis::Warning;
 use caymos::cayley_vector::Mirrors;
 
+use caymos::analysis::Scope;
+
 use crate::helpers::*;
 
 /// A dyad C on the base A–B with sides 3 and 3 + ε: its Cayley space is
@@ -39,5 +41,40 @@ fn a_body_on_a_line_as_written_is_proven_flat() {
         let (a, s) = solve_text(&text, "body");
         assert_eq!(s.mirrors, mirrors, "P.y = {y}");
         assert!(!a.warnings.iter().any(|w| matches!(w, Warning::EstimatedDecisions { .. })));
+    }
+}
+
+/// Issue 40, case 1: a Peaucellier-like linkage (OA = AC = 2, OB = OD = 5,
+/// CB = BP = DC = 3) with PD = 3 + ε. Where D folds, B and D meet, and P
+/// (which needs |BD| ≥ ε) folds just before: 2 closed components, as a
+/// 60-digit computation gives. On base A–B the P-fold lies ~ε/5 from
+/// √19, where the f64 inversion (|OC| = 2 + O(ε²) near its minimum) lost
+/// both candidates and the D-fold was taken for the end; the candidates
+/// are now those of the exact inversion wherever balls leave a branch
+/// undecided. Every valid base.
+#[test]
+fn a_near_rhombus_has_two_closed_components_on_every_base() {
+    for eps in ["0.00001", "0.000001"] {
+        let text = format!(
+            "bars = [[\"O\", \"A\", 2], [\"A\", \"C\", 2], [\"O\", \"B\", 5], [\"O\", \"D\", 5], [\"C\", \"B\", 3], [\"B\", \"P\", 3], [\"P\", \"D\", 3{}], [\"D\", \"C\", 3]]\nbase = [\"A\", \"B\"]\n[joints]\nO = [0, 0]\nA = [2, 0]\nC = [3.285575219373, 1.532088886238]\nB = [2.385922501326, 4.394015682456]\nD = [4.899652718047, -0.996696163598]\nP = [4, 1.86523063262]\n",
+            eps.trim_start_matches('0')
+        );
+        let (a, s) = solve_text(&text, "near-rhombus");
+        for base in every_base(&a, &s) {
+            let scene = caymos::scene::parse_scene(&text, "near-rhombus", "near-rhombus").unwrap();
+            let (_, t) = solve_with(scene, Some(base), Scope::Full);
+            let c = &t.components;
+            assert_eq!(c.connected_set_count(), 2, "ε = {eps}, base {base:?}");
+            assert_eq!(c.list.len(), 2, "ε = {eps}, base {base:?}");
+            assert!(c.list.iter().all(|k| k.closed), "ε = {eps}, base {base:?}: closed");
+        }
+        // On A–B the ends next to √19 are P's folds (step 4), not D's touch.
+        let p_folds = s
+            .space
+            .intervals
+            .iter()
+            .flat_map(|iv| [&iv.lower, &iv.upper])
+            .filter(|e| e.events.iter().any(|ev| ev.step == 3 && ev.kind == caymos::realize::Kind::Folded));
+        assert_eq!(p_folds.count(), 8, "ε = {eps}: four types end where P folds, either side of √19");
     }
 }

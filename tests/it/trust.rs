@@ -8,6 +8,7 @@ use crate::helpers::*;
 use caymos::analysis::{Scope, Warning, analyse_with};
 use caymos::bundled;
 use caymos::cayley_space::{Note, OrientedInterval};
+use caymos::exact::Decimal;
 use caymos::generate::{chain, four_bar, random_linkage};
 use caymos::lazy::{LazyOptions, component_through};
 use caymos::real::{Ball, Dd, Jet, Real};
@@ -235,18 +236,20 @@ fn tangency_scaled(exponent: i32) -> Scene {
 fn scaled_as_written(mut scene: Scene, exponent: i32) -> Scene {
     let scaled = |x: f64| {
         let text = format!("{x}e{exponent}");
-        (text.parse::<f64>().unwrap(), Dd::parse_decimal(&text).unwrap())
+        (text.parse::<f64>().unwrap(), Dd::parse_decimal(&text).unwrap(), Decimal::parse(&text))
     };
     for j in &mut scene.joints {
         let (x, y) = (scaled(j.pos[0]), scaled(j.pos[1]));
         j.pos = [x.0, y.0];
         j.exact = [x.1, y.1];
+        j.written = [x.2, y.2];
     }
     for b in &mut scene.bars {
         if let Some(l) = b.length {
-            let (v, exact) = scaled(l);
+            let (v, exact, written) = scaled(l);
             b.length = Some(v);
             b.exact_length = Some(exact);
+            b.written_length = written;
         }
     }
     scene

@@ -278,6 +278,27 @@ impl<T: Real> SweepPlan<T> {
     ) -> Self {
         let balls = cert.map(Certifier::f64_balls);
         let inverter = Inverter::new(con, dec, cx, balls);
+        // The same inversion in balls proves its branch decisions; where
+        // one is not proven, `T`'s candidates may miss a root (or hold a
+        // false one) and the exact stage finds them instead.
+        let proving = balls.map(|b| Inverter::new(b, dec, cx, None));
+        let candidates = |k: usize, kind: Kind| {
+            let s = &con.steps[k];
+            // A step on the base is no inversion: its candidates read no balls.
+            let b = balls.map(|b| &b.steps[k]).filter(|_| !con.on_base(k));
+            let t_ball = b.map(|b| kind.target(b.r1, b.r2));
+            let found = inverter.candidates_known(k, kind.target(s.r1, s.r2), t_ball);
+            let (Some(proving), Some(t_ball), Some(cert)) = (&proving, t_ball, cert) else { return found };
+            let before = proving.decisions().unproven();
+            proving.found(k, t_ball);
+            if proving.decisions().unproven() == before {
+                return found;
+            }
+            match cert.exact_candidates(cx, k, kind) {
+                Some(exact) => exact.into_iter().map(|x| Candidate::unknown(T::from_dd(x))).collect(),
+                None => found,
+            }
+        };
         let mut numeric_steps = Vec::new();
         let exact = (0..con.steps.len())
             .map(|k| {
@@ -286,13 +307,7 @@ impl<T: Real> SweepPlan<T> {
                     numeric_steps.push(k);
                     return None;
                 }
-                let s = &con.steps[k];
-                // A step on the base is no inversion: its candidates read no balls.
-                let b = balls.map(|b| &b.steps[k]).filter(|_| !con.on_base(k));
-                Some([
-                    inverter.candidates_known(k, s.r1 + s.r2, b.map(|b| b.r1 + b.r2)),
-                    inverter.candidates_known(k, (s.r1 - s.r2).abs(), b.map(|b| (b.r1 - b.r2).abs())),
-                ])
+                Some([candidates(k, Kind::Stretched), candidates(k, Kind::Folded)])
             })
             .collect();
         let reads = (0..con.steps.len())
@@ -592,6 +607,8 @@ impl<T: Real> Sweep<'_, T> {
                 self.gap_between_non_roots(k, bits, between)
             });
             let slot = proven.unwrap_or_else(|| {
+                // The slopes at the roots beside the gap decide: not a proof.
+                self.cert.count_estimated(1);
                 let from_left = if g == 0 { at_lo.first().map(|r| r.right) } else { Some(inside[g - 1].right) };
                 let from_right = if g == n_gaps - 1 { at_hi.first().map(|r| r.left) } else { Some(inside[g].left) };
                 match (from_left.filter(|&s| s != 0), from_right.filter(|&s| s != 0)) {

@@ -24,7 +24,7 @@
 //! ill-conditioned; there the two branches merge into one candidate when
 //! sin θ rounds to zero.
 
-use std::cell::OnceCell;
+use std::cell::{Cell, OnceCell};
 
 use crate::complexity::{Complexity, PairOrigin};
 use crate::decompose::Decomposition;
@@ -73,12 +73,50 @@ impl<T> Candidate<T> {
     }
 }
 
+/// The inversion's branch decisions (does a triangle close, does an angle
+/// have two branches): proven where the type proves signs ([`Ball`],
+/// the exact type), else taken by value and counted as unproven. After
+/// the first unproven decision the rest are taken by value (the
+/// candidates are no longer proven complete, and an exact sign out of
+/// reach is the costliest question there is).
+#[derive(Debug, Default)]
+pub struct Decisions {
+    unproven: Cell<usize>,
+}
+
+impl Decisions {
+    /// Whether x < 0; unproven, whether x < −`tol` (values a few ulps below
+    /// zero are rounding of a zero).
+    fn negative<T: Real>(&self, x: T, tol: T) -> bool {
+        self.proven_sign(x).map_or_else(|| self.unproven_then(x < -tol), |s| s < 0)
+    }
+
+    /// Whether x > 0.
+    fn positive<T: Real>(&self, x: T) -> bool {
+        self.proven_sign(x).map_or_else(|| self.unproven_then(x > T::zero()), |s| s > 0)
+    }
+
+    fn proven_sign<T: Real>(&self, x: T) -> Option<i8> {
+        if self.unproven.get() > 0 { None } else { x.proven_sign() }
+    }
+
+    fn unproven_then(&self, answer: bool) -> bool {
+        self.unproven.set(self.unproven.get() + 1);
+        answer
+    }
+
+    /// How many decisions so far were taken by value.
+    pub fn unproven(&self) -> usize {
+        self.unproven.get()
+    }
+}
+
 /// 1 − cos and 1 + cos of the angle opposite side `t` in a triangle with
 /// sides `a`, `b`, `t`, each as a product of differences. `None` when the
-/// triangle cannot close (beyond a few ulps, which are clamped to flat).
-fn one_minus_plus_cos<T: Real>(a: T, b: T, t: T) -> Option<(T, T)> {
-    let positive = |x: T| x.partial_cmp(&T::zero()) == Some(std::cmp::Ordering::Greater);
-    if !(positive(a) && positive(b)) {
+/// triangle cannot close (beyond a few ulps, which are clamped to flat,
+/// where the sign is not proven).
+fn one_minus_plus_cos<T: Real>(a: T, b: T, t: T, decide: &Decisions) -> Option<(T, T)> {
+    if !(decide.positive(a) && decide.positive(b)) {
         return None;
     }
     let m = a - b;
@@ -88,7 +126,7 @@ fn one_minus_plus_cos<T: Real>(a: T, b: T, t: T) -> Option<(T, T)> {
     let omc = (t - m) / a * ((t + m) / (two * b)); // = 1 − cos
     let opc = (s - t) / a * ((s + t) / (two * b)); // = 1 + cos
     let tol = T::from_f64(crate::tolerance::INVERT_CLAMP_ULPS * T::UNIT_ROUNDOFF);
-    if omc < -tol || opc < -tol {
+    if decide.negative(omc, tol) || decide.negative(opc, tol) {
         return None;
     }
     // max(·, 0): f64's own clamp, and an enclosure for balls.
@@ -125,8 +163,8 @@ impl<U: Real> Angle<U> {
     }
 
     /// The branches' signs, `+` first.
-    fn signs(self) -> &'static [f64] {
-        if self.sin > U::zero() { &[1.0, -1.0] } else { &[1.0] }
+    fn signs(self, decide: &Decisions) -> &'static [f64] {
+        if decide.positive(self.sin) { &[1.0, -1.0] } else { &[1.0] }
     }
 }
 
@@ -161,8 +199,8 @@ impl<U: Real> HingeShape<U> {
     }
 
     /// |θ1| where |p1 q1| = t (`None`: the hinge cannot reach t).
-    fn angle(&self, t: U) -> Option<Angle<U>> {
-        one_minus_plus_cos(self.a1, self.b1, t).map(Angle::of)
+    fn angle(&self, t: U, decide: &Decisions) -> Option<Angle<U>> {
+        one_minus_plus_cos(self.a1, self.b1, t, decide).map(Angle::of)
     }
 
     /// |p2 q2| on the branch θ1 = `sign`·|θ1|.
@@ -203,10 +241,10 @@ impl<U: Real> QuadShape<U> {
 
     /// α1 and α2 where |v_j far| = e, and the branches' signs (two where
     /// both sines are positive).
-    fn angles(&self, e: U) -> Option<([Angle<U>; 2], &'static [f64])> {
-        let a1 = Angle::of(one_minus_plus_cos(self.r_piv, e, self.p)?);
-        let a2 = Angle::of(one_minus_plus_cos(self.r_opp, e, self.q)?);
-        let signs: &[f64] = if a1.sin * a2.sin > U::zero() { &[1.0, -1.0] } else { &[1.0] };
+    fn angles(&self, e: U, decide: &Decisions) -> Option<([Angle<U>; 2], &'static [f64])> {
+        let a1 = Angle::of(one_minus_plus_cos(self.r_piv, e, self.p, decide)?);
+        let a2 = Angle::of(one_minus_plus_cos(self.r_opp, e, self.q, decide)?);
+        let signs: &[f64] = if decide.positive(a1.sin * a2.sin) { &[1.0, -1.0] } else { &[1.0] };
         Some(([a1, a2], signs))
     }
 
@@ -374,6 +412,7 @@ pub struct Inverter<'a, T: Real> {
     closing: [T; 2],
     /// Per step, on first use: the inversion in balls (empty without balls).
     ball_shapes: Vec<OnceCell<Option<Inversion<Ball<f64>>>>>,
+    decide: Decisions,
 }
 
 impl<'a, T: Real> Inverter<'a, T> {
@@ -392,11 +431,15 @@ impl<'a, T: Real> Inverter<'a, T> {
         let ball_shapes = if balls.is_some() { (0..n).map(|_| OnceCell::new()).collect() } else { Vec::new() };
         let (shapes, reaches) = ((0..n).map(|_| OnceCell::new()).collect(), (0..n).map(|_| OnceCell::new()).collect());
         let on_base = con.steps.iter().enumerate().filter(|&(k, _)| con.on_base(k)).map(|(_, s)| s);
-        let closing = on_base.fold([T::zero(), T::from_f64(f64::INFINITY)], |[lo, hi], s| {
-            let (below, above) = ((s.r1 - s.r2).abs(), s.r1 + s.r2);
-            [if below > lo { below } else { lo }, if above < hi { above } else { hi }]
-        });
-        Inverter { con, dec, cx, balls, shapes, reaches, closing, ball_shapes }
+        let closing = on_base
+            .fold(None, |range: Option<[T; 2]>, s| {
+                let (below, above) = ((s.r1 - s.r2).abs(), s.r1 + s.r2);
+                Some(range.map_or([below, above], |[lo, hi]| {
+                    [if below > lo { below } else { lo }, if above < hi { above } else { hi }]
+                }))
+            })
+            .unwrap_or([T::zero(), T::zero()]);
+        Inverter { con, dec, cx, balls, shapes, reaches, closing, ball_shapes, decide: Decisions::default() }
     }
 
     fn shape(&self, k: usize) -> Option<Shape<T>> {
@@ -422,7 +465,7 @@ impl<'a, T: Real> Inverter<'a, T> {
                 Some([self.con.cluster_distance(c.tu, c.x, step.u), self.con.cluster_distance(c.tw, c.x, step.w)])
             })
         });
-        sides.is_some_and(|[a1, b1]| one_minus_plus_cos(a1, b1, t).is_some())
+        sides.is_some_and(|[a1, b1]| one_minus_plus_cos(a1, b1, t, &self.decide).is_some())
     }
 
     fn ball_shape(&self, k: usize) -> Option<Inversion<Ball<f64>>> {
@@ -454,9 +497,7 @@ impl<'a, T: Real> Inverter<'a, T> {
         if self.con.on_base(k) {
             return if t > T::zero() { vec![Candidate::unknown(t)] } else { Vec::new() };
         }
-        let mut found = Vec::new();
-        self.descend(k, t, Some(Path::default()), &mut found);
-        found.retain(|(lambda, _)| *lambda > T::zero());
+        let mut found = self.found_on_paths(k, t);
         found.sort_by(|a, b| a.0.partial_cmp(&b.0).unwrap_or(std::cmp::Ordering::Equal));
         let same = T::from_f64(crate::tolerance::SAME_CANDIDATE_ULPS * T::UNIT_ROUNDOFF);
         // The candidates, and each one found on one path alone with that path.
@@ -483,6 +524,22 @@ impl<'a, T: Real> Inverter<'a, T> {
         out
     }
 
+    /// Every λ > 0 the inversion of d_k = t reaches, unsorted, one per
+    /// path (a candidate reached on two paths is there twice).
+    pub fn found(&self, k: usize, t: T) -> Vec<T> {
+        if self.con.on_base(k) {
+            return if self.decide.positive(t) { vec![t] } else { Vec::new() };
+        }
+        self.found_on_paths(k, t).into_iter().map(|(lambda, _)| lambda).collect()
+    }
+
+    fn found_on_paths(&self, k: usize, t: T) -> Vec<(T, Option<Path>)> {
+        let mut found = Vec::new();
+        self.descend(k, t, Some(Path::default()), &mut found);
+        found.retain(|(lambda, _)| self.decide.positive(*lambda));
+        found
+    }
+
     /// The candidates for d_k = t below step k, each with its path (`None`
     /// past [`Path::MAX_LEVELS`]).
     fn descend(&self, k: usize, t: T, path: Option<Path>, out: &mut Vec<(T, Option<Path>)>) {
@@ -497,19 +554,19 @@ impl<'a, T: Real> Inverter<'a, T> {
         let next = |path: Option<Path>, signs: &[f64], i: usize| path.and_then(|p| p.then(signs.len(), i));
         match inversion {
             Inversion::Step(hinge) => {
-                let Some(angle) = hinge.angle(t) else { return };
-                for (i, &sign) in angle.signs().iter().enumerate() {
+                let Some(angle) = hinge.angle(t, &self.decide) else { return };
+                for (i, &sign) in angle.signs(&self.decide).iter().enumerate() {
                     let dj = hinge.side(angle, sign);
                     if self.step_can_close(j, dj) {
-                        self.descend(j, dj, next(path, angle.signs(), i), out);
+                        self.descend(j, dj, next(path, angle.signs(&self.decide), i), out);
                     }
                 }
             }
             Inversion::FourCycle(hinge, quad) => {
-                let Some(angle) = hinge.angle(t) else { return };
-                for (i, &sign) in angle.signs().iter().enumerate() {
-                    let Some((angles, signs)) = quad.angles(hinge.side(angle, sign)) else { continue };
-                    let path = next(path, angle.signs(), i);
+                let Some(angle) = hinge.angle(t, &self.decide) else { return };
+                for (i, &sign) in angle.signs(&self.decide).iter().enumerate() {
+                    let Some((angles, signs)) = quad.angles(hinge.side(angle, sign), &self.decide) else { continue };
+                    let path = next(path, angle.signs(&self.decide), i);
                     for (qi, &quad_sign) in signs.iter().enumerate() {
                         let dj = quad.side(angles, quad_sign);
                         if self.step_can_close(j, dj) {
@@ -556,19 +613,19 @@ impl<'a, T: Real> Inverter<'a, T> {
         };
         match inversion {
             Inversion::Step(hinge) => {
-                let Some(angle) = hinge.angle(t) else { return };
-                for (i, &sign) in angle.signs().iter().enumerate() {
-                    let Some((p, below)) = through(path, angle.signs(), i) else { continue };
+                let Some(angle) = hinge.angle(t, &self.decide) else { return };
+                for (i, &sign) in angle.signs(&self.decide).iter().enumerate() {
+                    let Some((p, below)) = through(path, angle.signs(&self.decide), i) else { continue };
                     let known = learned(known, hinge.sine(angle, sign).sign(), plus);
                     let dj = deeper.then(|| hinge.side(angle, sign));
                     self.learn(j, dj, p, known, below, out);
                 }
             }
             Inversion::FourCycle(hinge, quad) => {
-                let Some(angle) = hinge.angle(t) else { return };
-                for (i, &sign) in angle.signs().iter().enumerate() {
-                    let Some((p, _)) = through(path, angle.signs(), i) else { continue };
-                    let Some((angles, signs)) = quad.angles(hinge.side(angle, sign)) else { continue };
+                let Some(angle) = hinge.angle(t, &self.decide) else { return };
+                for (i, &sign) in angle.signs(&self.decide).iter().enumerate() {
+                    let Some((p, _)) = through(path, angle.signs(&self.decide), i) else { continue };
+                    let Some((angles, signs)) = quad.angles(hinge.side(angle, sign), &self.decide) else { continue };
                     // The hinge's sine: the orientation o of (pivot, v_j, far), or its opposite.
                     let orientation = hinge.sine(angle, sign).sign();
                     for (qi, &quad_sign) in signs.iter().enumerate() {
@@ -585,6 +642,11 @@ impl<'a, T: Real> Inverter<'a, T> {
     fn step_can_close(&self, j: usize, d: T) -> bool {
         let s = &self.con.steps[j];
         let tol = T::from_f64(crate::tolerance::FEASIBLE * self.con.scale);
-        d >= (s.r1 - s.r2).abs() - tol && d <= s.r1 + s.r2 + tol
+        !self.decide.negative(d - (s.r1 - s.r2).abs(), tol) && !self.decide.negative(s.r1 + s.r2 - d, tol)
+    }
+
+    /// The branch decisions so far (see [`Decisions`]).
+    pub fn decisions(&self) -> &Decisions {
+        &self.decide
     }
 }

@@ -43,6 +43,12 @@ pub trait Real:
             Input::Distance(dd, _) => Self::from_dd(dd),
         }
     }
+    /// The value's sign where this type proves it: a [`Ball`] that
+    /// excludes zero, an exact value decided. `None` for plain floating
+    /// point (its sign may be the rounding's) and where no proof is in reach.
+    fn proven_sign(self) -> Option<i8> {
+        None
+    }
     /// The value rounded to f64 (for a jet: its value).
     fn to_f64(self) -> f64;
     /// Square root; a negative argument gives NaN, as for f64.
@@ -677,6 +683,9 @@ impl<T: Real> Real for Ball<T> {
         // The rounding to T, and the decimal → double-double conversion.
         let size = x.to_f64().abs();
         Ball { m: T::from_dd(x), r: size * (4.0 * T::UNIT_ROUNDOFF + 1e-30) }
+    }
+    fn proven_sign(self) -> Option<i8> {
+        self.sign()
     }
     fn to_f64(self) -> f64 {
         self.m.to_f64()

@@ -67,10 +67,12 @@ pub fn apply(scene: &Scene, p: Parameter, value: f64) -> Scene {
         Parameter::BarLength(i) => {
             s.bars[i].length = Some(value);
             s.bars[i].exact_length = Some(Dd::new(value));
+            s.bars[i].written_length = None;
         }
         Parameter::Joint { joint, axis } => {
             s.joints[joint].pos[axis] = value;
             s.joints[joint].exact[axis] = Dd::new(value);
+            s.joints[joint].written[axis] = None;
         }
     }
     s

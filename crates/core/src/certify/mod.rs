@@ -32,6 +32,7 @@ use std::sync::{Arc, OnceLock};
 
 mod exact_stage;
 
+use crate::complexity::Complexity;
 use crate::decompose::Decomposition;
 use crate::exact::Expr;
 use crate::inthash::IntMap;
@@ -541,6 +542,16 @@ impl Certifier {
             })
             .collect();
         signs.into_iter()
+    }
+
+    /// Step k's closed-form candidates for `kind` with every branch of the
+    /// inversion decided exactly, to double-double precision; `None` where
+    /// the exact stage cannot decide one (counted as an estimate: the
+    /// caller keeps its own candidates).
+    pub fn exact_candidates(&self, cx: &Complexity, k: usize, kind: Kind) -> Option<Vec<Dd>> {
+        let found = exact_stage::candidates(&self.built.linkage, &self.built.dec, cx, k, kind);
+        self.count_exact(found.is_some());
+        found
     }
 
     /// Count one decision of the exact stage: proven, or out of its reach

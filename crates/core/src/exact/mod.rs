@@ -312,6 +312,15 @@ impl Real for Expr {
             Input::Distance(_, [p, q]) => Expr::hypot(value(p[0]) - value(q[0]), value(p[1]) - value(q[1])),
         }
     }
+    /// Evaluated to at most [`BRANCH_BITS`]: a branch decision out of that
+    /// reach is cheaper said than chased (its caller then has no proof
+    /// either way).
+    fn proven_sign(self) -> Option<i8> {
+        match sign_within(self, BRANCH_BITS).0 {
+            Decided::Sign(s) => Some(s),
+            Decided::Undefined | Decided::TooHard => None,
+        }
+    }
     fn to_f64(self) -> f64 {
         approx(self)
     }
@@ -348,7 +357,12 @@ impl Real for Expr {
         } else if x == zero {
             y.abs()
         } else {
-            (x * x + y * y).sqrt()
+            // The approximation as f64 computes a hypot: the squares' own
+            // approximations may under- or overflow.
+            let h = (x * x + y * y).sqrt();
+            let approx = approx(x).hypot(approx(y));
+            NODES.with_borrow_mut(|nodes| nodes[h.0 as usize].approx = approx);
+            h
         }
     }
 }
@@ -375,6 +389,10 @@ pub const MAX_BITS: u64 = 1 << 16;
 /// saying so (values this far from zero are still decided).
 pub const UNBOUNDED_BITS: u64 = 4096;
 
+/// The most precision a branch decision ([`Real::proven_sign`]) is
+/// evaluated to before saying it is out of reach.
+pub const BRANCH_BITS: u64 = 4096;
+
 /// The precision the exact stage starts at (bits after the binary point).
 const START_BITS: u64 = 128;
 
@@ -393,6 +411,11 @@ pub struct Effort {
 /// bound (zero); [`Decided::TooHard`] where that bound is past [`MAX_BITS`]
 /// and [`UNBOUNDED_BITS`] did not separate the value from zero.
 pub fn sign(e: Expr) -> (Decided, Effort) {
+    sign_within(e, u64::MAX)
+}
+
+/// [`sign`], evaluating to at most `ceiling` bits.
+fn sign_within(e: Expr, ceiling: u64) -> (Decided, Effort) {
     if let Some((n, _)) = leaf(e) {
         return (Decided::Sign(n.signum().try_into().expect("a sign")), Effort { precision: 0, bound_bits: Some(0) });
     }
@@ -404,6 +427,7 @@ pub fn sign(e: Expr) -> (Decided, Effort) {
     let mut p = START_BITS;
     // The evaluation's own losses grow with depth: go some way past the bound.
     let last = bits.map_or(UNBOUNDED_BITS, |bits| (4 * bits + START_BITS).clamp(UNBOUNDED_BITS, 4 * MAX_BITS));
+    let last = last.min(ceiling);
     loop {
         match evaluate(e, p) {
             Err(Undefined) => return (Decided::Undefined, Effort { precision: p, bound_bits: bits }),
@@ -421,6 +445,36 @@ pub fn sign(e: Expr) -> (Decided, Effort) {
             return (Decided::TooHard, Effort { precision: p, bound_bits: bits });
         }
         p = (2 * p).min(last);
+    }
+}
+
+/// `e`'s value to double-double precision (relative 2^-104 or better),
+/// from evaluations at rising precision; exactly 0 where the value is
+/// proven zero. `None` where it has no value or its sign is out of reach.
+pub fn approximate(e: Expr) -> Option<Dd> {
+    match sign(e).0 {
+        Decided::Sign(0) => return Some(Dd::new(0.0)),
+        Decided::Sign(_) => {}
+        Decided::Undefined | Decided::TooHard => return None,
+    }
+    let mut p = START_BITS;
+    loop {
+        if let Ok(Some(x)) = evaluate(e, p)
+            && x.sign().is_some()
+        {
+            let magnitude = x.lo.abs().min(x.hi.abs());
+            if (&x.hi - &x.lo) << 110u32 <= magnitude {
+                let mid = (&x.lo + &x.hi) >> 1u32;
+                let hi = big_to_f64(&mid, p);
+                let (n, d) = dyadic(hi);
+                let rest = &mid - Fixed::rational(&n, &d, p).lo;
+                return Some(Dd::new(hi) + Dd::new(big_to_f64(&rest, p)));
+            }
+        }
+        if p >= 4 * MAX_BITS {
+            return None;
+        }
+        p *= 2;
     }
 }
 
@@ -573,6 +627,24 @@ mod tests {
         assert_eq!((effort.bound_bits, effort.precision), (None, UNBOUNDED_BITS));
         let tiny = Expr::f64(2f64.powi(-1000)) * Expr::f64(2f64.powi(-1000)) * Expr::f64(2f64.powi(-1000));
         assert_eq!((y - y * int(1) + tiny).sign(), Decided::Sign(1));
+    }
+
+    /// Values to double-double precision, at any scale; a proven zero is 0.
+    #[test]
+    fn approximations_reach_double_double() {
+        let _scope = Scope::enter();
+        let root2 = Dd::new(std::f64::consts::SQRT_2) + Dd::new(-9.667293313452913e-17);
+        for text in ["1", "1e-200", "1e200", "0.1"] {
+            let x = approximate(int(2).sqrt() * dec(text)).expect("a value");
+            let want = root2 * approximate(dec(text)).expect("a decimal");
+            assert!(((x - want) / want).to_f64().abs() < 1e-30, "{text}: {x:?}");
+        }
+        // Past double-double's range its low part underflows; the high part stays right.
+        let tiny = approximate(int(2).sqrt() * dec("1e-300")).expect("a value");
+        assert!((tiny.hi / (std::f64::consts::SQRT_2 * 1e-300) - 1.0).abs() < 1e-15);
+        let zero = int(2).sqrt() * int(3).sqrt() - int(6).sqrt();
+        assert_eq!(approximate(zero), Some(Dd::new(0.0)));
+        assert_eq!(approximate((zero - int(1)).sqrt()), None);
     }
 
     /// A scope frees its nodes; handles made before it stay valid.
