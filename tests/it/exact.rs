@@ -78,3 +78,23 @@ fn a_near_rhombus_has_two_closed_components_on_every_base() {
         assert_eq!(p_folds.count(), 8, "ε = {eps}: four types end where P folds, either side of √19");
     }
 }
+
+/// Issue 40, case 2: an exact tangency in dyadic lengths. The rhombus-like
+/// linkage has |BP| + |PD| = 3.25 + 2.25 = |BC| + |CD| = 3 + 2.5, so on
+/// base O–P, where |BD| is greatest (B, P, D in line) C is exactly
+/// stretched: its slack touches zero inside intervals, and the types with
+/// C's bit flipped meet there. That base gave 6 connected sets, every
+/// other base 2: the touch split the runs for the later steps and joined
+/// them again, so the components never saw it. Now the sweep keeps each
+/// touch inside intervals for the connected sets.
+#[test]
+fn an_exact_tangency_joins_the_same_sets_on_every_base() {
+    let text = "bars = [[\"O\",\"A\",2],[\"A\",\"C\",2],[\"O\",\"B\",5],[\"O\",\"D\",4.5],[\"C\",\"B\",3],[\"B\",\"P\",3.25],[\"P\",\"D\",2.25],[\"D\",\"C\",2.5]]\nbase = [\"O\",\"P\"]\n[joints]\nO = [0, 0]\nA = [1.232462, 1.575131]\nB = [5, 0]\nC = [3.090909, 2.314168]\nD = [1.5, 4.242641]\nP = [2.931818, 2.507015]\n";
+    let (a, s) = solve_text(text, "tangency-dyadic");
+    assert!(!s.space.touches.is_empty(), "a touch inside intervals on O–P");
+    for base in every_base(&a, &s) {
+        let scene = caymos::scene::parse_scene(text, "tangency-dyadic", "tangency-dyadic").unwrap();
+        let (_, t) = solve_with(scene, Some(base), Scope::Full);
+        assert_eq!(t.components.connected_set_count(), 2, "base {base:?}");
+    }
+}

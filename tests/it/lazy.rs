@@ -154,8 +154,10 @@ fn lazy_equals_exhaustive_on_peaucellier_bases_through_the_touch() {
 /// degenerate inside: the walk used to go through -+-+ on A–B (coincident
 /// all along) and across ++-+ below √19, and the sweep dropped ++-+ whole
 /// (its valid part is [√19, 5]). The full analysis has ++-+ on exactly
-/// [√19, 5] and ++++ on [3, √19], and the same 4 components in 2 connected
-/// sets as on base O–C.
+/// [√19, 5] and ++++ on [3, √19], and 4 components in 1 connected set:
+/// the kite's flat touch at √19 joins 1 with 3 and 2 with 4, and at
+/// λ = √13 (|OC| = 4, where the inversor puts P on C) step 4 touches
+/// stretched inside -++- and +---, whose P-flipped types meet them there.
 #[test]
 fn no_peaucellier_interval_is_degenerate_inside_on_bases_a_b_and_a_d() {
     use caymos::certify::Closes;
@@ -197,7 +199,7 @@ fn no_peaucellier_interval_is_degenerate_inside_on_bases_a_b_and_a_d() {
                     lo == 3.0 && (hi - root19).abs() <= 4.0 * f64::EPSILON * root19,
                     "{u}–{w}: {whole} [{lo}, {hi}]"
                 );
-                assert_eq!((s.components.list.len(), s.components.connected_set_count()), (4, 2), "{u}–{w}");
+                assert_eq!((s.components.list.len(), s.components.connected_set_count()), (4, 1), "{u}–{w}");
             }
         }
     }

@@ -213,7 +213,8 @@ fn paths_between_components_give_the_closest_pair() {
 
 /// Components of one connected set (Peaucellier on base A–B: ---- and --+-
 /// meet where the kite folds flat, at λ = √19) have no path along one
-/// component, and the path says they are in one set; ---- and ---+ are not.
+/// component, and the path says they are in one set; Jansen's components
+/// are sets of their own, and the path says so.
 #[test]
 fn a_path_between_components_of_one_connected_set_says_so() {
     let scene = bundled::load("peaucellier").unwrap();
@@ -223,7 +224,12 @@ fn a_path_between_components_of_one_connected_set_says_so() {
     let p = commands::path(&a.linkage, &s, "----@3.2", "--+-@4.8", walk(0.5)).unwrap();
     assert!(!p.same_component && p.same_connected_set && p.paths.is_empty());
     assert!(p.to_text().contains("different components of one connected set"), "{}", p.to_text());
+    // ---- and ---+ are joined through the singular place at √13 (P on C)
+    // by way of -++- and -+++: one set, but no component holds both.
     let q = commands::path(&a.linkage, &s, "----@3.2", "---+@4", walk(0.5)).unwrap();
+    assert!(!q.same_component && q.same_connected_set);
+    let (a, s) = solved("jansen");
+    let q = commands::path(&a.linkage, &s, "----@40", "-+--@40", walk(0.5)).unwrap();
     assert!(!q.same_component && !q.same_connected_set);
     assert!(q.to_text().contains("No path: the realizations lie in different components."));
 }

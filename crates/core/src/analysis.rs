@@ -796,6 +796,7 @@ pub fn analyse_checked(
             component_through(&construction, &certifier, &jet, &drawn.ty, start, LazyOptions::default()).unwrap_or_else(
                 |_| CayleySpace {
                     intervals: Vec::new(),
+                    touches: Vec::new(),
                     notes: Vec::new(),
                     method: Method::Numeric { samples: LazyOptions::default().samples, tol: 0.0 },
                     numeric_steps: Vec::new(),

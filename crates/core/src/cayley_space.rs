@@ -145,11 +145,31 @@ pub enum Method {
     },
 }
 
+/// A touch inside intervals: in the types that start with `prefix`, the
+/// slack of the next step (`event`) touches zero at `lambda` and comes
+/// back, so that step is flat there without an interval ending. Its
+/// vertex then lies on its base line: a type and the one with that step's
+/// bit flipped have the same realization there, a singular place the
+/// motion may pass from one into the other (one connected set).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Touch {
+    /// Where (base length).
+    pub lambda: f64,
+    /// The type bits before the touching step.
+    pub prefix: Vec<bool>,
+    /// The touching step, flat there.
+    pub event: Event,
+}
+
 /// The oriented Cayley configuration space: the intervals of every type computed, and what was met on the way.
 #[derive(Clone, Debug)]
 pub struct CayleySpace<T> {
     /// Sorted by type, then λ.
     pub intervals: Vec<OrientedInterval<T>>,
+    /// Touches inside intervals (see [`Touch`]): where a slack is zero
+    /// without changing sign, as the sweep decides it (an estimate where the
+    /// certifier could not prove the zero, counted among its estimates).
+    pub touches: Vec<Touch>,
     /// Non-generic events and undecided places met while computing.
     pub notes: Vec<Note>,
     /// How the endpoints were found.
@@ -215,6 +235,8 @@ struct Sweep<'a, T: Real> {
     slope_positions: RefCell<Vec<P2<Slope<T>>>>,
     /// Indices into `out` of the isolated end points (`Piece::touch`).
     touches: Vec<usize>,
+    /// Touches inside intervals ([`Touch`]).
+    inside_touches: Vec<Touch>,
     /// Per step: the type bits its base distance depends on (its
     /// ancestors, [`Construction::ancestors`]) as a word; `None` past 128
     /// steps, or where no other prefix can repeat its refinements.
@@ -247,6 +269,8 @@ type EndKey = (usize, Option<Event>, u128, u128);
 struct Refined<T> {
     pieces: Vec<Piece<T>>,
     notes: Vec<Note>,
+    /// Touches inside (λ, event): the same for every prefix it stands for.
+    touches: Vec<(f64, Event)>,
     estimated: usize,
 }
 
@@ -388,6 +412,7 @@ fn sweep<T: Real>(con: &Construction<T>, cert: &Certifier, plan: SweepPlan<T>, r
         slopes: OnceCell::new(),
         slope_positions: RefCell::new(Vec::new()),
         touches: Vec::new(),
+        inside_touches: Vec::new(),
         depends: reads.iter().enumerate().map(|(k, &w)| repeatable(k, w, mirrored).filter(|_| reuse)).collect(),
         mirrored,
         refined: IntMap::default(),
@@ -413,7 +438,7 @@ fn sweep<T: Real>(con: &Construction<T>, cert: &Certifier, plan: SweepPlan<T>, r
     intervals.sort_by(|a, b| a.ty.cmp(&b.ty).then(cmp(&a.lower.lambda, &b.lower.lambda)));
     let mut notes = sweep.notes;
     notes.dedup();
-    CayleySpace { intervals, notes, method, numeric_steps }
+    CayleySpace { intervals, touches: sweep.inside_touches, notes, method, numeric_steps }
 }
 
 impl<T: Real> Sweep<'_, T> {
@@ -457,17 +482,21 @@ impl<T: Real> Sweep<'_, T> {
         let key = (k, read, end(&piece.lo), end(&piece.hi), piece.touch);
         if let Some(done) = self.refined.get(&key) {
             self.notes.extend_from_slice(&done.notes);
+            let touched =
+                done.touches.iter().map(|&(lambda, event)| Touch { lambda, prefix: bits[..k].to_vec(), event });
+            self.inside_touches.extend(touched);
             self.cert.count_estimated(done.estimated);
             return out.extend_from_slice(&done.pieces);
         }
-        let (notes, estimated) = (self.notes.len(), self.cert.estimated());
+        let (notes, touches, estimated) = (self.notes.len(), self.inside_touches.len(), self.cert.estimated());
         let pieces = self.refine(k, bits, piece);
         out.extend_from_slice(&pieces);
+        let touches = self.inside_touches[touches..].iter().map(|t| (t.lambda, t.event)).collect();
         if self.refined.len() >= tolerance::REFINEMENTS_KEPT {
             self.refined.clear();
         }
-        let done =
-            Refined { pieces, notes: self.notes[notes..].to_vec(), estimated: self.cert.estimated() - estimated };
+        let (notes, estimated) = (self.notes[notes..].to_vec(), self.cert.estimated() - estimated);
+        let done = Refined { pieces, notes, touches, estimated };
         self.refined.insert(key, done);
     }
 
@@ -680,6 +709,8 @@ impl<T: Real> Sweep<'_, T> {
             match (feasible[g], feasible[g + 1]) {
                 (true, true) => {
                     self.notes.push(Note::Tangency { lambda: r.lambda.to_f64(), event: event(&r), inside: true });
+                    let touch = Touch { lambda: r.lambda.to_f64(), prefix: bits[..k].to_vec(), event: event(&r) };
+                    self.inside_touches.push(touch);
                     // A later step need not be analytic through this touch:
                     // the vertex placed here can switch sides of its base
                     // line (on Peaucellier's base A–B, D lies on B below
@@ -759,7 +790,9 @@ impl<T: Real> Sweep<'_, T> {
             return None;
         }
         let lambda = ((r1.lambda + r2.lambda) / T::from_f64(2.0)).to_f64();
-        self.notes.push(Note::Tangency { lambda, event: Event { step: k, kind: r1.kind }, inside: true });
+        let event = Event { step: k, kind: r1.kind };
+        self.notes.push(Note::Tangency { lambda, event, inside: true });
+        self.inside_touches.push(Touch { lambda, prefix: bits[..k].to_vec(), event });
         Some(true)
     }
 

@@ -170,6 +170,7 @@ pub fn component_through_counted<T: Real>(
     notes.dedup();
     let space = CayleySpace {
         intervals,
+        touches: Vec::new(),
         notes,
         method: Method::Numeric { samples: options.samples, tol: 0.0 },
         numeric_steps: (0..con.steps.len()).collect(),

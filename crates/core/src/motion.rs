@@ -270,6 +270,24 @@ fn components_by<K: TypeKey>(space: &CayleySpace<f64>, keys: &[K]) -> Components
     // and a touch passed through (`BranchPoint::through`).
     let several = ivs.iter().any(|i| i.lower.events.len() > 1 || i.upper.events.len() > 1);
     let mut sets = UnionFind::new(list.len());
+    // A touch inside intervals: each type through it meets the type with
+    // the touching step's bit flipped there (see `Touch`).
+    if !space.touches.is_empty() {
+        let mut by_type: std::collections::HashMap<&[bool], Vec<usize>> = std::collections::HashMap::new();
+        for (i, iv) in ivs.iter().enumerate() {
+            by_type.entry(&iv.ty.0).or_default().push(i);
+        }
+        for t in &space.touches {
+            let holds = |i: &usize| ivs[*i].lower.lambda <= t.lambda && t.lambda <= ivs[*i].upper.lambda;
+            for (i, iv) in ivs.iter().enumerate().filter(|(i, iv)| iv.ty.0.starts_with(&t.prefix) && holds(i)) {
+                let mut flipped = iv.ty.0.clone();
+                flipped[t.event.step] = !flipped[t.event.step];
+                for j in by_type.get(&flipped[..]).into_iter().flatten().filter(|j| holds(j)) {
+                    sets.join(of_interval[i], of_interval[*j]);
+                }
+            }
+        }
+    }
     if several || passes_touch {
         for i in 0..ivs.len() {
             for side in [Side::Lower, Side::Upper] {
@@ -878,6 +896,7 @@ mod tests {
                 interval([true, false, false], 3),
                 interval([true, true, false], 4),
             ],
+            touches: Vec::new(),
             notes: Vec::new(),
             method: Method::Exact,
             numeric_steps: Vec::new(),
