@@ -98,3 +98,33 @@ fn an_exact_tangency_joins_the_same_sets_on_every_base() {
         assert_eq!(t.components.connected_set_count(), 2, "base {base:?}");
     }
 }
+
+/// Issue 40, case 3: a four-bar a–c–b–d whose |cd| is greatest (exactly 5,
+/// at λ = √10) inside its range, and a dyad e ◁ (c, d) that folds at
+/// |cd| = 5 − 1e-13: every type lives on a window ~1e-6 wide. The lazy
+/// walk found the window's ends again a little apart, took them for new
+/// ends and listed each interval up to three times, in open "components".
+/// On every base the lazy component through the drawing is now closed,
+/// without a repeated type, and is the full analysis's component there.
+#[test]
+fn a_narrow_window_is_walked_once_on_every_base() {
+    let text = "bars = [[\"a\",\"c\",3],[\"c\",\"b\",4],[\"a\",\"d\",2],[\"d\",\"b\",4],[\"c\",\"e\",1],[\"e\",\"d\",5.9999999999999]]\nbase = [\"a\",\"b\"]\n[joints]\na = [0, 0]\nb = [3.16227766, 0]\nc = [0.474341649, 2.962262649]\nd = [-0.316227766, -1.974841766]\ne = [0.632455581, 3.949683524]\n";
+    let scene = || caymos::scene::parse_scene(text, "window", "window").unwrap();
+    let (a, s) = solve(scene());
+    for base in every_base(&a, &s) {
+        let (_, full) = solve_with(scene(), Some(base), Scope::Full);
+        let (_, lazy) = solve_with(scene(), Some(base), Scope::Lazy);
+        let types = |t: &caymos::analysis::Solved, c: &caymos::motion::Component| {
+            let mut v: Vec<String> = c.intervals.iter().map(|&i| t.space.intervals[i].ty.to_string()).collect();
+            v.sort();
+            v
+        };
+        assert_eq!(lazy.components.list.len(), 1, "base {base:?}");
+        let walked = &lazy.components.list[0];
+        assert!(walked.closed, "base {base:?}: closed");
+        let mut distinct = types(&lazy, walked);
+        distinct.dedup();
+        assert_eq!(distinct, types(&lazy, walked), "base {base:?}: no type twice");
+        assert!(full.components.list.iter().any(|c| types(&full, c) == distinct), "base {base:?}: a full component");
+    }
+}

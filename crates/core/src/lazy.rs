@@ -1024,6 +1024,18 @@ impl<'a, T: Real> Walker<'a, T> {
             estimated: self.cert.estimated(),
         };
         let outcome = self.walk_into(intervals, heading, entry.clone());
+        // The intervals of one type are disjoint: one that overlaps an
+        // earlier interval of its type is that interval reached again (its
+        // ends computed twice, apart by more than the rounding `meets` allows).
+        if let Some((new, before)) = intervals.split_last().filter(|_| matches!(outcome, Advance::Walked)) {
+            let overlaps = |iv: &OrientedInterval<T>| {
+                iv.ty == new.ty && iv.lower.lambda < new.upper.lambda && new.lower.lambda < iv.upper.lambda
+            };
+            if let Some(j) = before.iter().position(overlaps) {
+                intervals.pop();
+                return Ahead { entry: Some(entry), ..stopped(Advance::Closed(j)) };
+            }
+        }
         let walked = matches!(outcome, Advance::Walked).then(|| intervals[intervals.len() - 1].clone());
         Ahead { entry: Some(entry), checked: others.len(), rewind, outcome, walked }
     }
