@@ -66,6 +66,9 @@ pub struct MethodRow {
     pub max_endpoint_error: f64,
     pub missed: usize,
     pub spurious: usize,
+    /// The certifier's decisions per stage in one run (zero for the
+    /// classic method, which proves nothing).
+    pub decisions: caymos_core::StageCounts,
 }
 
 #[derive(Debug, Clone, Serialize, schemars::JsonSchema)]
@@ -443,6 +446,8 @@ pub fn bench_scene(a: &Analysis, s: &Solved, repeat: usize) -> (Vec<MethodRow>, 
             |cert| component_through(con, &cert, &jet, &s.drawn.ty, s.drawn.lambda, LazyOptions::default()),
         );
         let n = walked.as_ref().map_or(0, |w| w.intervals.len());
+        let cert = s.certifier.fork();
+        let _ = component_through(con, &cert, &jet, &s.drawn.ty, s.drawn.lambda, LazyOptions::default());
         let accuracy =
             walked.ok().and_then(|mut w| crate::analysis::lazy_reference_accuracy(&a.linkage, &s.dec, &mut w));
         let row = MethodRow {
@@ -454,6 +459,7 @@ pub fn bench_scene(a: &Analysis, s: &Solved, repeat: usize) -> (Vec<MethodRow>, 
             max_endpoint_error: accuracy.as_ref().map_or(f64::NAN, |a| a.max_relative_error),
             missed: usize::from(accuracy.is_some_and(|a| !a.same_structure)),
             spurious: 0,
+            decisions: cert.stage_counts(),
         };
         return (vec![row], Vec::new());
     }
@@ -468,7 +474,7 @@ pub fn bench_scene(a: &Analysis, s: &Solved, repeat: usize) -> (Vec<MethodRow>, 
         Method::Numeric { samples: 16, tol: 1e-8 },
         Method::Numeric { samples: 8, tol: 1e-4 },
     ];
-    let row = |method: BenchMethod, median_us: f64, got: &[Span]| {
+    let row = |method: BenchMethod, median_us: f64, got: &[Span], decisions| {
         let (max_endpoint_error, missed, spurious) = compare(got, &reference, scale);
         MethodRow {
             scene: name.clone(),
@@ -479,6 +485,7 @@ pub fn bench_scene(a: &Analysis, s: &Solved, repeat: usize) -> (Vec<MethodRow>, 
             max_endpoint_error,
             missed,
             spurious,
+            decisions,
         }
     };
     // The methods take turns within each repetition, so that every median
@@ -501,13 +508,16 @@ pub fn bench_scene(a: &Analysis, s: &Solved, repeat: usize) -> (Vec<MethodRow>, 
             Method::Exact => BenchMethod::Exact,
             Method::Numeric { samples, tol } => BenchMethod::Numeric { samples, tol },
         };
-        rows.push(row(label, t, &spans(&space(&s.certifier.fork(), method))));
+        let cert = s.certifier.fork();
+        let got = spans(&space(&cert, method));
+        rows.push(row(label, t, &got, cert.stage_counts()));
     }
     if let Some(got) = classic_space(con, s) {
         rows.push(row(
             BenchMethod::Classic { tol: crate::tolerance::CLASSIC_ABSOLUTE_TOL },
             times[methods.len()],
             &got,
+            caymos_core::StageCounts::default(),
         ));
     }
     // The lazy walk computes one component: compare it with the reference
@@ -527,6 +537,8 @@ pub fn bench_scene(a: &Analysis, s: &Solved, repeat: usize) -> (Vec<MethodRow>, 
             || s.certifier.fork(),
             |cert| component_through(con, &cert, &jet, &s.drawn.ty, s.drawn.lambda, LazyOptions::default()),
         );
+        let cert = s.certifier.fork();
+        let _ = component_through(con, &cert, &jet, &s.drawn.ty, s.drawn.lambda, LazyOptions::default());
         if let Ok(walked) = walked {
             let got = spans(&walked);
             let (max_endpoint_error, missed, spurious) = compare(&got, &reference_component, scale);
@@ -539,6 +551,7 @@ pub fn bench_scene(a: &Analysis, s: &Solved, repeat: usize) -> (Vec<MethodRow>, 
                 max_endpoint_error,
                 missed,
                 spurious,
+                decisions: cert.stage_counts(),
             });
         }
     }
@@ -618,10 +631,11 @@ impl BenchReport {
             "Cayley space: median of {} runs; errors against the double-double exact run, relative to scene scale\n",
             self.repeat
         ));
-        let rows: Vec<[String; 6]> = self
+        let rows: Vec<[String; 7]> = self
             .methods
             .iter()
             .map(|r| {
+                let d = &r.decisions;
                 [
                     r.scene.clone(),
                     r.method.to_string(),
@@ -629,10 +643,13 @@ impl BenchReport {
                     fmt_sci(r.max_endpoint_error),
                     format!("{}/{}", r.intervals, r.reference_intervals),
                     format!("{} / {}", r.missed, r.spurious),
+                    format!("{}/{}/{}/{}", d.f64, d.double_double, d.exact, d.estimated),
                 ]
             })
             .collect();
-        write_table(&mut o, &["scene", "method", "time µs", "max error", "intervals", "missed / spurious"], &rows);
+        let head = ["scene", "method", "time µs", "max error", "intervals", "missed / spurious", "decisions"];
+        write_table(&mut o, &head, &rows);
+        o.push_str("(decisions: proven in f64 balls / double-double balls / exactly / estimated)\n");
         o.push('\n');
         o.push_str(&self.chart());
         o.push_str(

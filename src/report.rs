@@ -288,6 +288,10 @@ pub struct Report {
     /// Wall-clock time of each phase in µs: `null` unless `--timings` (so
     /// two runs print the same document).
     pub timings_us: Option<BTreeMap<String, f64>>,
+    /// How many decisions each stage of the certifier took (proven in f64
+    /// balls, in double-double balls, exactly; resting on an estimate):
+    /// `null` unless `--timings`.
+    pub decisions: Option<caymos_core::StageCounts>,
 }
 
 impl Report {
@@ -341,6 +345,7 @@ impl Report {
                 .map(|w| Said { data: w.clone(), message: present::warning(w, names) })
                 .collect(),
             timings_us: timings.then(|| a.timings.0.iter().map(|(k, v)| (k.to_string(), *v)).collect()),
+            decisions: a.outcome.as_ref().ok().filter(|_| timings).map(|s| s.certifier.stage_counts()),
         };
         match &a.outcome {
             Err(outside) => {
@@ -759,6 +764,22 @@ impl Report {
             for w in &self.warnings {
                 let _ = writeln!(o, "  - {}", w.message);
             }
+        }
+        self.write_costs(o);
+    }
+
+    /// With `--timings`: the certifier's decisions per stage and each phase's time.
+    fn write_costs(&self, o: &mut String) {
+        if let Some(d) = &self.decisions {
+            let _ = writeln!(
+                o,
+                "{:<24}{} in f64 balls, {} in double-double balls, {} exact, {} estimated",
+                "Decisions", d.f64, d.double_double, d.exact, d.estimated
+            );
+        }
+        if let Some(t) = &self.timings_us {
+            let phases: Vec<String> = t.iter().map(|(k, v)| format!("{k} {v:.0}")).collect();
+            let _ = writeln!(o, "{:<24}{} (µs)", "Timings", phases.join(", "));
         }
     }
 }

@@ -128,3 +128,25 @@ fn a_narrow_window_is_walked_once_on_every_base() {
         assert!(full.components.list.iter().any(|c| types(&full, c) == distinct), "base {base:?}: a full component");
     }
 }
+
+/// `report --timings` says how many decisions each stage took: Jansen's
+/// are all proven in f64 balls; the exact Peaucellier needs the exact
+/// stage (its touch candidates) and still rests some on estimates, and
+/// says so in the text too.
+#[test]
+fn timings_count_the_decisions_of_each_stage() {
+    let doc = json(&caymos(&["report", "jansen", "--timings", "--format", "json"]));
+    let d = &doc["decisions"];
+    assert!(d["f64"].as_u64().unwrap() > 0, "{d}");
+    assert_eq!(
+        (d["double_double"].as_u64(), d["exact"].as_u64(), d["estimated"].as_u64()),
+        (Some(0), Some(0), Some(0))
+    );
+    let doc = json(&caymos(&["report", "peaucellier", "--timings", "--format", "json"]));
+    assert!(doc["decisions"]["exact"].as_u64().unwrap() > 0, "{}", doc["decisions"]);
+    let warned = doc["warnings"].as_array().unwrap().iter().find(|w| w["kind"] == "estimated_decisions");
+    assert_eq!(warned.and_then(|w| w["count"].as_u64()), doc["decisions"]["estimated"].as_u64());
+    let text = stdout(&caymos(&["report", "peaucellier", "--timings"]));
+    assert!(text.lines().any(|l| l.starts_with("Decisions") && l.contains(" exact, ")), "{text}");
+    assert!(json(&caymos(&["report", "jansen", "--format", "json"]))["decisions"].is_null());
+}

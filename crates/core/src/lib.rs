@@ -73,7 +73,7 @@ pub use nalgebra;
 pub use analysis::{Analysis, Scope, SelfCheck, Solved, analyse, analyse_checked, analyse_with};
 pub use cayley_space::{CayleySpace, Method, Note, OrientedInterval, cayley_space};
 pub use cayley_vector::{cayley_vector, euclid};
-pub use certify::{Certifier, Sign};
+pub use certify::{Certifier, Sign, StageCounts};
 pub use complexity::{Complexity, four_cycle_test};
 pub use decompose::{Decomposition, Outside, decompose};
 pub use distance::{Certificate, ClosestOptions, ClosestPair, closest_pair};

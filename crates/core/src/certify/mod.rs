@@ -81,6 +81,26 @@ pub struct Certifier {
     estimated: Cell<usize>,
     /// Decisions the exact stage proved.
     exact: Cell<usize>,
+    /// Slack signs f64 balls proved, and double-double balls.
+    in_f64: Cell<usize>,
+    in_dd: Cell<usize>,
+}
+
+/// How many decisions each stage of a [`Certifier`] took: proven in f64
+/// balls, in double-double balls, by the exact stage, and those that
+/// rest on an estimate. A count of work (a question asked twice counts
+/// twice), for `--timings` and `bench`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, schemars::JsonSchema))]
+pub struct StageCounts {
+    /// Proven in f64 balls.
+    pub f64: usize,
+    /// Proven in double-double balls.
+    pub double_double: usize,
+    /// Proven by the exact stage.
+    pub exact: usize,
+    /// Resting on an estimate ([`Certifier::estimated`]).
+    pub estimated: usize,
 }
 
 /// What a [`Certifier`] decides with, built once.
@@ -373,6 +393,8 @@ impl Certifier {
             refined: RefCell::new(IntMap::default()),
             estimated: Cell::new(0),
             exact: Cell::new(0),
+            in_f64: Cell::new(0),
+            in_dd: Cell::new(0),
         };
         // Unequal sides proven in f64 balls are unequal in double-double
         // balls too (a narrower enclosure of the same number); only sides
@@ -421,6 +443,8 @@ impl Certifier {
             refined: RefCell::new(IntMap::default()),
             estimated: Cell::new(0),
             exact: Cell::new(0),
+            in_f64: Cell::new(0),
+            in_dd: Cell::new(0),
         }
     }
 
@@ -508,8 +532,12 @@ impl Certifier {
             let (sa, sb) = (&con.steps[a.step], &con.steps[b.step]);
             (a.kind.target(sa.r1, sa.r2) - b.kind.target(sb.r1, sb.r2)).sign()
         }
-        let fine = || self.dd_balls().and_then(|balls| diff(balls, a, b));
-        Sign::of(diff(&self.built.f64_balls, a, b).or_else(fine)).unwrap_or_else(|| {
+        let proven_in = |count: &Cell<usize>, sign: Option<i8>| {
+            Self::count_proven(count, usize::from(sign.is_some()));
+            sign
+        };
+        let fine = || proven_in(&self.in_dd, self.dd_balls().and_then(|balls| diff(balls, a, b)));
+        Sign::of(proven_in(&self.in_f64, diff(&self.built.f64_balls, a, b)).or_else(fine)).unwrap_or_else(|| {
             self.exact_sign(|con| {
                 let (sa, sb) = (&con.steps[a.step], &con.steps[b.step]);
                 a.kind.target(sa.r1, sa.r2) - b.kind.target(sb.r1, sb.r2)
@@ -564,6 +592,20 @@ impl Certifier {
     /// How many decisions so far the exact stage proved (the balls could not).
     pub fn exact_decisions(&self) -> usize {
         self.exact.get()
+    }
+
+    /// How many decisions so far each stage took.
+    pub fn stage_counts(&self) -> StageCounts {
+        StageCounts {
+            f64: self.in_f64.get(),
+            double_double: self.in_dd.get(),
+            exact: self.exact.get(),
+            estimated: self.estimated.get(),
+        }
+    }
+
+    fn count_proven(count: &Cell<usize>, n: usize) {
+        count.set(count.get() + n);
     }
 
     /// The proven sign of step `k`'s slack for `kind` at `at`, for the type
@@ -688,6 +730,7 @@ impl Certifier {
         questions: [(usize, Kind); N],
     ) -> [Option<Sign>; N] {
         if let Some(signs) = self.on_base_signs(at, &questions) {
+            Self::count_proven(&self.in_f64, N);
             return signs.map(Some);
         }
         let upto = questions.iter().map(|&(k, _)| k).max().unwrap_or(0);
@@ -699,7 +742,9 @@ impl Certifier {
             let d = *d.get(k)?;
             Sign::of(kind.slack_value(steps[k].r1, steps[k].r2, d).sign())
         };
-        questions.map(proven)
+        let signs = questions.map(proven);
+        Self::count_proven(&self.in_f64, signs.iter().filter(|s| s.is_some()).count());
+        signs
     }
 
     /// The signs of questions about steps standing on the base, proven
@@ -774,6 +819,7 @@ impl Certifier {
             Some(&mut enclose),
             &mut realize,
         );
+        Self::count_proven(&self.in_f64, fast.iter().filter(|v| v.proven.is_some()).count());
         if fast.iter().all(|v| v.proven.is_some()) {
             return fast.into_iter().map(|v| v.proven.expect("all proven")).collect();
         }
@@ -809,7 +855,9 @@ impl Certifier {
         let enclose: Option<&mut dyn FnMut(Ball<Dd>) -> Vec<Ball<Dd>>> = if balls { Some(&mut enclose) } else { None };
         let mut realize =
             |l: Dd| distances_at(prefixes.as_deref_mut().map(|p| &mut p.dd), &dd.plain, l, bits, upto, (mask, &flat));
-        let mut fine = self.evaluate(dd_balls, &dd.plain, bits, at, refined, &open, enclose, &mut realize).into_iter();
+        let fine = self.evaluate(dd_balls, &dd.plain, bits, at, refined, &open, enclose, &mut realize);
+        Self::count_proven(&self.in_dd, fine.iter().filter(|v| v.proven.is_some()).count());
+        let mut fine = fine.into_iter();
         fast.iter()
             .map(|f| {
                 f.proven.unwrap_or_else(|| {
