@@ -409,6 +409,12 @@ fn apex_parts<T: Real>(t: &Triangle<T>) -> Result<Apex<T>, Option<f64>> {
     };
     let h = if flat { zero } else { d * h2.sqrt() };
     let h = if plus { h } else { -h };
+    // Placed flat, the vertex is r1 from u on the base line, on the side
+    // `along` gives: where d is tiny the formula's along divides the
+    // slack's rounding by d (a folded step on base joints 1e-6 apart put
+    // its vertex 0.02 off its bar).
+    let r1 = (sum + diff) * T::from_f64(0.5);
+    let along = if flat && diff != zero { if along < zero { -r1 } else { r1 } } else { along };
     Ok(Apex { along, h, ex, ey, h2, clamped })
 }
 
@@ -435,8 +441,13 @@ pub(crate) fn apex_jet<T: Real>(t: Triangle<Jet<T>>) -> Result<P2<Jet<T>>, Optio
     let (rho1, rho2) = (d.d / d.v, d.s / d.v);
     let (sigma, delta) = (sum.v / d.v, diff.v / d.v);
     let sd = sigma * delta;
-    let f = (one + sd) / two;
-    let (f1, f2) = (-(sd * rho1), T::from_f64(3.0) * sd * rho1 * rho1 - sd * rho2);
+    // Placed flat with unequal sides, along = ±r1 (see `apex_parts`): F = along/d.
+    let (f, f1, f2) = if flat && diff.v != T::zero() {
+        let f = parts.along / d.v;
+        (f, -(f * rho1), f * (two * rho1 * rho1 - rho2))
+    } else {
+        ((one + sd) / two, -(sd * rho1), T::from_f64(3.0) * sd * rho1 * rho1 - sd * rho2)
+    };
     let (g, g1, g2) = if flat {
         (T::zero(), T::zero(), T::zero())
     } else if parts.clamped {
