@@ -809,3 +809,20 @@ fn a_rhombus_on_a_diagonal_proves_its_coincident_ends() {
         );
     }
 }
+
+/// The bundled Limacon scaled as written by 1e-160: the double-double
+/// reference run loses step 3's folded end there (the f64 run and every
+/// other method agree on it), and the report used to show the reference's
+/// endpoints anyway, 3.5 times off, because the two runs listed the same
+/// types. Runs whose ends differ in their flat steps differ in structure:
+/// the f64 endpoints stay, and the report says the runs differ.
+#[test]
+fn a_reference_run_with_other_events_does_not_replace_the_endpoints() {
+    let scene = scaled_as_written(bundled::load("limacon").unwrap(), -160);
+    let (a, s) = solve(scene);
+    let lower = s.union[0][0];
+    assert!((lower / 7.003190304277537e-159 - 1.0).abs() < 1e-12, "lower end {lower:e}");
+    let differ = a.warnings.iter().any(|w| matches!(w, Warning::RunsDiffer));
+    let same = s.accuracy.as_ref().is_some_and(|acc| acc.same_structure);
+    assert_eq!(differ, !same, "the warning says what the comparison found");
+}

@@ -181,8 +181,12 @@ fn compare_runs<R: Real>(
     space: &mut [OrientedInterval<f64>],
     scale: f64,
 ) -> Accuracy {
-    let same_structure =
-        reference.len() == space.len() && reference.iter().zip(space.iter()).all(|(r, f)| r.ty == f.ty);
+    // The same types, each end with the same flat steps.
+    let same_structure = reference.len() == space.len()
+        && reference
+            .iter()
+            .zip(space.iter())
+            .all(|(r, f)| r.ty == f.ty && r.lower.events == f.lower.events && r.upper.events == f.upper.events);
     let (mut worst, mut of_value): (f64, f64) = (0.0, 0.0);
     if same_structure {
         for (r, f) in reference.iter().zip(space.iter_mut()) {
