@@ -78,12 +78,8 @@ pub struct Certifier {
     /// keyed like the brackets (without the arithmetic): every later step
     /// and every question at the end asks for the same Newton iteration.
     refined: RefCell<IntMap<RefineKey, Dd>>,
-    estimated: Cell<usize>,
-    /// Decisions the exact stage proved.
-    exact: Cell<usize>,
-    /// Slack signs f64 balls proved, and double-double balls.
-    in_f64: Cell<usize>,
-    in_dd: Cell<usize>,
+    /// The decisions each stage took so far.
+    counts: Cell<StageCounts>,
 }
 
 /// How many decisions each stage of a [`Certifier`] took: proven in f64
@@ -387,15 +383,7 @@ impl Certifier {
             kinds: Vec::new(),
             twins: Vec::new(),
         };
-        let mut cert = Certifier {
-            built: Arc::new(built),
-            brackets: RefCell::new(IntMap::default()),
-            refined: RefCell::new(IntMap::default()),
-            estimated: Cell::new(0),
-            exact: Cell::new(0),
-            in_f64: Cell::new(0),
-            in_dd: Cell::new(0),
-        };
+        let mut cert = Certifier::with_built(Arc::new(built));
         // Unequal sides proven in f64 balls are unequal in double-double
         // balls too (a narrower enclosure of the same number); only sides
         // f64 cannot separate need the double-double construction.
@@ -437,15 +425,24 @@ impl Certifier {
     /// double-double ones built once for both), its own caches, and no
     /// decisions counted yet.
     pub fn fork(&self) -> Certifier {
+        Certifier::with_built(self.built.clone())
+    }
+
+    /// A certifier over `built` with empty caches and no decisions counted.
+    fn with_built(built: Arc<Built>) -> Certifier {
         Certifier {
-            built: self.built.clone(),
+            built,
             brackets: RefCell::new(IntMap::default()),
             refined: RefCell::new(IntMap::default()),
-            estimated: Cell::new(0),
-            exact: Cell::new(0),
-            in_f64: Cell::new(0),
-            in_dd: Cell::new(0),
+            counts: Cell::new(StageCounts::default()),
         }
+    }
+
+    /// Add to the decisions counted.
+    fn count(&self, add: impl FnOnce(&mut StageCounts)) {
+        let mut counts = self.counts.get();
+        add(&mut counts);
+        self.counts.set(counts);
     }
 
     /// The double-double ball construction (built on first use; `None`
@@ -532,12 +529,14 @@ impl Certifier {
             let (sa, sb) = (&con.steps[a.step], &con.steps[b.step]);
             (a.kind.target(sa.r1, sa.r2) - b.kind.target(sb.r1, sb.r2)).sign()
         }
-        let proven_in = |count: &Cell<usize>, sign: Option<i8>| {
-            Self::count_proven(count, usize::from(sign.is_some()));
+        let fast = diff(&self.built.f64_balls, a, b);
+        self.count(|c| c.f64 += usize::from(fast.is_some()));
+        let fine = || {
+            let sign = self.dd_balls().and_then(|balls| diff(balls, a, b));
+            self.count(|c| c.double_double += usize::from(sign.is_some()));
             sign
         };
-        let fine = || proven_in(&self.in_dd, self.dd_balls().and_then(|balls| diff(balls, a, b)));
-        Sign::of(proven_in(&self.in_f64, diff(&self.built.f64_balls, a, b)).or_else(fine)).unwrap_or_else(|| {
+        Sign::of(fast.or_else(fine)).unwrap_or_else(|| {
             self.exact_sign(|con| {
                 let (sa, sb) = (&con.steps[a.step], &con.steps[b.step]);
                 a.kind.target(sa.r1, sa.r2) - b.kind.target(sb.r1, sb.r2)
@@ -585,27 +584,17 @@ impl Certifier {
     /// Count one decision of the exact stage: proven, or out of its reach
     /// (then the caller's answer is an estimate).
     fn count_exact(&self, proven: bool) {
-        let count = if proven { &self.exact } else { &self.estimated };
-        count.set(count.get() + 1);
+        self.count(|c| if proven { c.exact += 1 } else { c.estimated += 1 });
     }
 
     /// How many decisions so far the exact stage proved (the balls could not).
     pub fn exact_decisions(&self) -> usize {
-        self.exact.get()
+        self.counts.get().exact
     }
 
     /// How many decisions so far each stage took.
     pub fn stage_counts(&self) -> StageCounts {
-        StageCounts {
-            f64: self.in_f64.get(),
-            double_double: self.in_dd.get(),
-            exact: self.exact.get(),
-            estimated: self.estimated.get(),
-        }
-    }
-
-    fn count_proven(count: &Cell<usize>, n: usize) {
-        count.set(count.get() + n);
+        self.counts.get()
     }
 
     /// The proven sign of step `k`'s slack for `kind` at `at`, for the type
@@ -730,7 +719,7 @@ impl Certifier {
         questions: [(usize, Kind); N],
     ) -> [Option<Sign>; N] {
         if let Some(signs) = self.on_base_signs(at, &questions) {
-            Self::count_proven(&self.in_f64, N);
+            self.count(|c| c.f64 += N);
             return signs.map(Some);
         }
         let upto = questions.iter().map(|&(k, _)| k).max().unwrap_or(0);
@@ -743,7 +732,7 @@ impl Certifier {
             Sign::of(kind.slack_value(steps[k].r1, steps[k].r2, d).sign())
         };
         let signs = questions.map(proven);
-        Self::count_proven(&self.in_f64, signs.iter().filter(|s| s.is_some()).count());
+        self.count(|c| c.f64 += signs.iter().filter(|s| s.is_some()).count());
         signs
     }
 
@@ -819,7 +808,7 @@ impl Certifier {
             Some(&mut enclose),
             &mut realize,
         );
-        Self::count_proven(&self.in_f64, fast.iter().filter(|v| v.proven.is_some()).count());
+        self.count(|c| c.f64 += fast.iter().filter(|v| v.proven.is_some()).count());
         if fast.iter().all(|v| v.proven.is_some()) {
             return fast.into_iter().map(|v| v.proven.expect("all proven")).collect();
         }
@@ -856,7 +845,7 @@ impl Certifier {
         let mut realize =
             |l: Dd| distances_at(prefixes.as_deref_mut().map(|p| &mut p.dd), &dd.plain, l, bits, upto, (mask, &flat));
         let fine = self.evaluate(dd_balls, &dd.plain, bits, at, refined, &open, enclose, &mut realize);
-        Self::count_proven(&self.in_dd, fine.iter().filter(|v| v.proven.is_some()).count());
+        self.count(|c| c.double_double += fine.iter().filter(|v| v.proven.is_some()).count());
         let mut fine = fine.into_iter();
         fast.iter()
             .map(|f| {
@@ -883,7 +872,7 @@ impl Certifier {
         let Some(y) = d.midpoint else {
             return if f.midpoint.is_none() { Sign::Undefined } else { Sign::Zero };
         };
-        self.estimated.set(self.estimated.get() + 1);
+        self.count(|c| c.estimated += 1);
         let scale = self.built.f64_balls.scale;
         let error = self.estimated_error(f.midpoint.map_or(tolerance::FEASIBLE * scale, |x| (x - y).abs()));
         if y.abs() > error { if y > 0.0 { Sign::Positive } else { Sign::Negative } } else { Sign::Zero }
@@ -963,7 +952,7 @@ impl Certifier {
             }
             signs.push(if y > 0.0 { Sign::Positive } else { Sign::Negative });
         }
-        self.estimated.set(self.estimated.get() + signs.len());
+        self.count(|c| c.estimated += signs.len());
         #[cfg(test)]
         BESIDE_USED.set(BESIDE_USED.get() + 1);
         Some(signs.into_iter())
@@ -972,18 +961,18 @@ impl Certifier {
     /// Count `n` decisions again that rested on an estimate: the sweep's
     /// refinements repeated for another type (each type's decision counts).
     pub fn count_estimated(&self, n: usize) {
-        self.estimated.set(self.estimated.get() + n);
+        self.count(|c| c.estimated += n);
     }
 
     /// Set the count of [`Self::estimated`] back to `n`: a lazy walk's turn
     /// walked ahead and undone.
     pub(crate) fn rewind_estimated(&self, n: usize) {
-        self.estimated.set(n);
+        self.count(|c| c.estimated = n);
     }
 
     /// How many decisions so far rested on an estimate (see `estimate`) rather than a proof.
     pub fn estimated(&self) -> usize {
-        self.estimated.get()
+        self.counts.get().estimated
     }
 
     /// Whether step `k` closes at a λ inside an interval (taken as exact):
