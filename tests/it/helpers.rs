@@ -6,6 +6,8 @@ use std::process::{Command, Output};
 
 use caymos::analysis::{Analysis, Scope, Solved, analyse_with};
 use caymos::bundled;
+use caymos::exact::Decimal;
+use caymos::real::Dd;
 use caymos::scene::Scene;
 
 /// The real binary with `args`, colour off.
@@ -66,4 +68,29 @@ pub fn write(dir: &Path, name: &str, text: &str) -> String {
     let path = dir.join(name);
     std::fs::write(&path, text).unwrap();
     path.to_str().unwrap().to_string()
+}
+
+/// `scene` with every length and coordinate multiplied by 10^exponent as
+/// written: a decimal exponent appended, so exact relations among the
+/// numbers as written stay exact (a product in f64 would round them).
+pub fn scaled_as_written(mut scene: Scene, exponent: i32) -> Scene {
+    let scaled = |x: f64| {
+        let text = format!("{x}e{exponent}");
+        (text.parse::<f64>().unwrap(), Dd::parse_decimal(&text).unwrap(), Decimal::parse(&text))
+    };
+    for j in &mut scene.joints {
+        let (x, y) = (scaled(j.pos[0]), scaled(j.pos[1]));
+        j.pos = [x.0, y.0];
+        j.exact = [x.1, y.1];
+        j.written = [x.2, y.2];
+    }
+    for b in &mut scene.bars {
+        if let Some(l) = b.length {
+            let (v, exact, written) = scaled(l);
+            b.length = Some(v);
+            b.exact_length = Some(exact);
+            b.written_length = written;
+        }
+    }
+    scene
 }

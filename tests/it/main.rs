@@ -17,6 +17,7 @@ mod minimal;
 mod motion;
 mod perf;
 mod recognition;
+mod scales;
 mod scene_parse;
 mod sweep;
 mod sweep_view;

@@ -8,7 +8,6 @@ use crate::helpers::*;
 use caymos::analysis::{Scope, Warning, analyse_with};
 use caymos::bundled;
 use caymos::cayley_space::{Note, OrientedInterval};
-use caymos::exact::Decimal;
 use caymos::generate::{chain, four_bar, random_linkage};
 use caymos::lazy::{LazyOptions, component_through};
 use caymos::real::{Ball, Dd, Jet, Real};
@@ -228,31 +227,6 @@ fn assert_base_invariant(scene: &Scene) {
 /// 10^exponent as written (decimal exponents, so exact relations stay exact).
 fn tangency_scaled(exponent: i32) -> Scene {
     scaled_as_written(caymos::generate::tangency(), exponent)
-}
-
-/// `scene` with every length and coordinate multiplied by 10^exponent as
-/// written: a decimal exponent appended, so exact relations among the
-/// numbers as written stay exact (a product in f64 would round them).
-fn scaled_as_written(mut scene: Scene, exponent: i32) -> Scene {
-    let scaled = |x: f64| {
-        let text = format!("{x}e{exponent}");
-        (text.parse::<f64>().unwrap(), Dd::parse_decimal(&text).unwrap(), Decimal::parse(&text))
-    };
-    for j in &mut scene.joints {
-        let (x, y) = (scaled(j.pos[0]), scaled(j.pos[1]));
-        j.pos = [x.0, y.0];
-        j.exact = [x.1, y.1];
-        j.written = [x.2, y.2];
-    }
-    for b in &mut scene.bars {
-        if let Some(l) = b.length {
-            let (v, exact, written) = scaled(l);
-            b.length = Some(v);
-            b.exact_length = Some(exact);
-            b.written_length = written;
-        }
-    }
-    scene
 }
 
 /// Every bundled scene and hard case, scaled by 10^±100 and 10^±150 as written, keeps

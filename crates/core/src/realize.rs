@@ -428,7 +428,8 @@ fn apex_parts<T: Real>(t: &Triangle<T>) -> Result<Apex<T>, Option<f64>> {
 /// With ρ₁ = d′/d, ρ₂ = d″/d: F′ = (dF_d)ρ₁ and F″ = (d²F_dd)ρ₁² + (dF_d)ρ₂,
 /// where dF_d = −σδ, d²F_dd = 3σδ; likewise G from dq_d = σ²δ² − (σ² + δ²)/2
 /// and d²q_dd = 3(σ² + δ²)/2 − 5σ²δ² through G = √q. Every quantity is
-/// dimensionless (no product of lengths). A clamped slack has no
+/// dimensionless (no product of lengths, and the derivatives are taken as
+/// F′d and F″d², so no 1/d² either). A clamped slack has no
 /// derivative (NaN, as the generic jet gives); a forced flat triangle has
 /// G ≡ 0.
 pub(crate) fn apex_jet<T: Real>(t: Triangle<Jet<T>>) -> Result<P2<Jet<T>>, Option<f64>> {
@@ -438,7 +439,11 @@ pub(crate) fn apex_jet<T: Real>(t: Triangle<Jet<T>>) -> Result<P2<Jet<T>>, Optio
     let parts = apex_parts(&values)?;
     let [x, y] = parts.placed(values.pu);
     let (one, two) = (T::from_f64(1.0), T::from_f64(2.0));
-    let (rho1, rho2) = (d.d / d.v, d.s / d.v);
+    // Derivatives in units of d (ρ₁d and ρ₂d²): each factor of 1/d is
+    // applied to a length last, so nothing of size 1/d² is formed (it
+    // overflows below 1e-154).
+    let k = d.v;
+    let (rho1, rho2) = (d.d, d.s * k);
     let (sigma, delta) = (sum.v / d.v, diff.v / d.v);
     let sd = sigma * delta;
     // Placed flat with unequal sides, along = ±r1 (see `apex_parts`): F = along/d.
@@ -464,9 +469,11 @@ pub(crate) fn apex_jet<T: Real>(t: Triangle<Jet<T>>) -> Result<P2<Jet<T>>, Optio
         if plus { (g, g1, g2) } else { (-g, -g1, -g2) }
     };
     let [e0, e1] = e;
-    let first = |p: Jet<T>, a: Jet<T>, b: Jet<T>, sign: T| p.d + f1 * a.v + f * a.d + sign * (g1 * b.v + g * b.d);
+    // f1, g1 are F′d, G′d and f2, g2 are F″d², G″d².
+    let first =
+        |p: Jet<T>, a: Jet<T>, b: Jet<T>, sign: T| p.d + f1 * (a.v / k) + f * a.d + sign * (g1 * (b.v / k) + g * b.d);
     let second = |p: Jet<T>, a: Jet<T>, b: Jet<T>, sign: T| {
-        p.s + f2 * a.v + two * f1 * a.d + f * a.s + sign * (g2 * b.v + two * g1 * b.d + g * b.s)
+        p.s + (f2 * (a.v / k) + two * f1 * a.d) / k + f * a.s + sign * ((g2 * (b.v / k) + two * g1 * b.d) / k + g * b.s)
     };
     let minus = -one;
     Ok([
@@ -505,7 +512,7 @@ fn flat_tolerance(flat: bool, tol: f64) -> f64 {
 
 /// Base lengths whose reciprocal (and its double-double low part) stays a
 /// normal number: outside, the apex divides as written.
-const RECIPROCAL_RANGE: [f64; 2] = [1e-290, 1e290];
+const RECIPROCAL_RANGE: [f64; 2] = [1e-140, 1e140];
 
 /// Maps `x` rigidly (rotation + translation, never a reflection) so that the
 /// local points `p0`, `p1` go to `q0`, `q1` (assumed at the same distance).
@@ -678,7 +685,8 @@ fn cluster_shapes<T: Real>(linkage: &Linkage, dec: &Decomposition) -> Result<Vec
                 let side = |c: usize, x: usize, y: usize| norm(sub(shape_pos(&shapes[c], x), shape_pos(&shapes[c], y)));
                 let (pq, qr, rp) = (side(parts[1], *p, *q), side(parts[2], *q, *r), side(parts[0], *r, *p));
                 let dr = |j: usize| linkage.drawn[j];
-                let drawn_cross = cross(sub(dr(*q), dr(*p)), sub(dr(*r), dr(*p)));
+                // Through the unit vector: a product of two lengths underflows at 1e-160.
+                let drawn_cross = cross(unit(sub(dr(*q), dr(*p))), sub(dr(*r), dr(*p)));
                 let tp = [T::zero(), T::zero()];
                 let tq = [pq, T::zero()];
                 let tr =
