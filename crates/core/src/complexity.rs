@@ -94,6 +94,7 @@ pub fn four_cycle_test(dec: &Decomposition) -> Complexity {
     let mut carriers = vec![None; dec.steps.len()];
     let mut failure = None;
     let mut pairs = SingleSharedPairs::new();
+    let asked = StepBases::new(dec);
     for (k, step) in dec.steps.iter().enumerate() {
         if k > 0 && failure.is_none() {
             let (us, ws) = (&holding_joint[step.u], &holding_joint[step.w]);
@@ -113,20 +114,24 @@ pub fn four_cycle_test(dec: &Decomposition) -> Complexity {
                     carriers[k] = Some(carrier);
                     ccv.push([carrier.x, step.vertex]);
                     for &(_, _, tu, tw, far) in hinged {
-                        valid.entry(key(step.cluster_u, tu)).or_insert(PairOrigin::FourCycle {
-                            step: k,
-                            on_u: true,
-                            other: tu,
-                            opposite: tw,
-                            far,
-                        });
-                        valid.entry(key(step.cluster_w, tw)).or_insert(PairOrigin::FourCycle {
-                            step: k,
-                            on_u: false,
-                            other: tw,
-                            opposite: tu,
-                            far,
-                        });
+                        if asked.may_ask(clusters, step.cluster_u, tu) {
+                            valid.entry(key(step.cluster_u, tu)).or_insert(PairOrigin::FourCycle {
+                                step: k,
+                                on_u: true,
+                                other: tu,
+                                opposite: tw,
+                                far,
+                            });
+                        }
+                        if asked.may_ask(clusters, step.cluster_w, tw) {
+                            valid.entry(key(step.cluster_w, tw)).or_insert(PairOrigin::FourCycle {
+                                step: k,
+                                on_u: false,
+                                other: tw,
+                                opposite: tu,
+                                far,
+                            });
+                        }
                     }
                 }
                 None => {
@@ -150,6 +155,35 @@ pub fn four_cycle_test(dec: &Decomposition) -> Complexity {
     }
     Complexity { low: failure.is_none(), ccv, carriers, failure }
 }
+
+/// Every step's base joints, as unordered pairs. The test asks whether a
+/// pair of clusters is valid only of a pair holding some step's base
+/// joints one each, so a four-cycle pair holding no such joints is never
+/// stored: a fan of n steps on one base makes n²/2 of them (3,000 steps:
+/// 1.5 GB), and none is ever asked.
+struct StepBases(IntMap<(usize, usize), ()>);
+
+impl StepBases {
+    fn new(dec: &Decomposition) -> Self {
+        let mut set = int_map(dec.steps.len());
+        for s in &dec.steps {
+            set.insert(key(s.u, s.w), ());
+        }
+        StepBases(set)
+    }
+
+    /// Whether some step's base joints lie one in each of clusters `p` and
+    /// `q`. Past [`ASK_CHECK_PAIRS`] joint pairs it answers yes unread
+    /// (storing a pair never asked changes nothing).
+    fn may_ask(&self, clusters: &ClusterSet, p: usize, q: usize) -> bool {
+        let (a, b) = (&clusters.nodes[p].joints, &clusters.nodes[q].joints);
+        a.len() * b.len() > ASK_CHECK_PAIRS
+            || a.iter().any(|&x| b.iter().any(|&y| x != y && self.0.contains_key(&key(x, y))))
+    }
+}
+
+/// The most joint pairs [`StepBases::may_ask`] reads.
+const ASK_CHECK_PAIRS: usize = 64;
 
 /// The pairs of clusters `(tu, tw)`, `tu` built at joint u and `tw` at
 /// joint w, that share exactly one joint, with that joint, in the order of
