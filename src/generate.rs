@@ -118,6 +118,26 @@ pub fn chain(steps: usize) -> Scene {
     scene
 }
 
+/// A fan: `joints` joints, each built on the base pair A, B by two bars of
+/// unequal drawn lengths (a dyad per joint, every step on the one base).
+/// The drawing places them pseudo-randomly above and below the base, so
+/// every step has its own flat places.
+pub fn fan(joints: usize) -> Scene {
+    let mut b = SceneBuilder::new(&format!("fan-{joints}"));
+    let mut rng = SplitMix(joints as u64);
+    let a = b.joint("A", [0.0, 0.0]);
+    let bb = b.joint("B", [1.0, 0.0]);
+    for k in 0..joints {
+        let side = if rng.unit() < 0.5 { -1.0 } else { 1.0 };
+        let c = b.joint(&format!("C{k}"), [rng.range(-1.0, 2.0), side * rng.range(0.3, 2.0)]);
+        b.bar_ix(a, c, None).bar_ix(bb, c, None);
+    }
+    let mut scene = b.build();
+    scene.base = Some(([a, bb], 0));
+    scene.description = Some(format!("generated fan of {joints} joints, each built on the base pair A, B"));
+    scene
+}
+
 /// `legs` Jansen legs on one crank: the crank is a rigid body of the centre O
 /// and one crank tip per leg (phases spread round the circle); every leg uses
 /// the holy numbers and the shared pivot P.

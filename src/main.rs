@@ -89,6 +89,12 @@ enum Family {
         #[arg(long, value_parser = generated_steps)]
         steps: usize,
     },
+    /// Joints each built on the one base pair A, B by two bars.
+    Fan {
+        /// 1 to 100000.
+        #[arg(long, value_parser = generated_steps)]
+        joints: usize,
+    },
     /// Jansen legs sharing one crank.
     Strandbeest {
         /// 1 to 10000.
@@ -582,6 +588,7 @@ fn run(command: Command) -> Result<u8, Failure> {
         Command::Generate { family, output } => {
             let scene = match family {
                 Family::Chain { steps } => caymos::generate::chain(steps),
+                Family::Fan { joints } => caymos::generate::fan(joints),
                 Family::Strandbeest { legs } => caymos::generate::strandbeest(legs),
             };
             write_out(output, &caymos::generate::to_toml(&scene))?;

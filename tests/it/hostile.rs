@@ -52,3 +52,31 @@ fn csv_quotes_joint_names_holding_commas_and_quotes() {
         assert_eq!(fields(line), width, "{line}");
     }
 }
+
+/// `caymos report FILE` with its address space limited to `limit_kb`.
+fn report_within(limit_kb: u64, file: &std::path::Path) -> std::process::Output {
+    std::process::Command::new("sh")
+        .arg("-c")
+        .arg(format!("ulimit -v {limit_kb} && exec \"$0\" report \"$1\""))
+        .arg(env!("CARGO_BIN_EXE_caymos"))
+        .arg(file)
+        .env("NO_COLOR", "1")
+        .output()
+        .expect("sh runs")
+}
+
+/// Item 7: a fan of 3,000 joints, each built on the base pair, is answered
+/// under a 1 GB address-space limit. The four-cycle test used to store
+/// every pair of clusters hinged at the base's two hubs, n²/2 of them
+/// (1.5 GB; aborted under the limit), though no step can ask about one.
+#[test]
+fn a_fan_of_3000_joints_is_answered_within_1_gb() {
+    let dir = scratch("fan");
+    let path = dir.join("fan.toml");
+    std::fs::write(&path, caymos::generate::to_toml(&caymos::generate::fan(3000))).unwrap();
+    let out = report_within(1 << 20, &path);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let text = stdout(&out);
+    assert!(text.contains("3002 joints, 6000 bars"), "{text}");
+    assert!(text.lines().any(|l| l.starts_with("Components") && l.contains(" 1 ")), "{text}");
+}
