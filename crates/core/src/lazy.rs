@@ -1320,21 +1320,27 @@ impl<'a, T: Real> Walker<'a, T> {
     /// step whose slack is negative there failed first (its root and the
     /// found one are closer than f64 resolves), so the end is that step's;
     /// every step whose slack is zero to double-double resolution is flat
-    /// there too (a non-generic end).
+    /// there too (a non-generic end). Steps whose ends each read the
+    /// other's slack below zero (ends closer than the decisions resolve)
+    /// are flat there together, once each has been tried.
     fn proven_events(&self, bits: &[bool], lambda: T, mut events: Vec<Event>) -> Vec<Event> {
+        let mut tried: Vec<Event> = Vec::new();
         for _ in 0..self.con.steps.len() {
             let first = events[0];
+            tried.push(first);
             // The flat step's own slacks are zero there by construction (no
             // ball proves that): not asked.
             let questions = self.questions_except(Some(first.step));
             let at = At { lambda: lambda.to_f64(), events: &[first] };
             let signs = self.cert.slack_signs(bits, at, &questions);
             let candidates = questions.iter().zip(&signs).map(|(&(step, kind), &s)| (Event { step, kind }, s));
-            if let Some((e, _)) = candidates.clone().find(|(_, s)| *s == Sign::Negative) {
+            let failing = candidates.clone().filter(|(_, s)| *s == Sign::Negative).map(|(e, _)| e);
+            if let Some(e) = failing.clone().find(|e| !tried.contains(e)) {
                 events = vec![e];
                 continue;
             }
             events = vec![first];
+            events.extend(failing);
             events.extend(candidates.filter(|(_, s)| *s == Sign::Zero).map(|(e, _)| e));
             break;
         }
