@@ -114,23 +114,14 @@ pub fn four_cycle_test(dec: &Decomposition) -> Complexity {
                     carriers[k] = Some(carrier);
                     ccv.push([carrier.x, step.vertex]);
                     for &(_, _, tu, tw, far) in hinged {
-                        if asked.may_ask(clusters, step.cluster_u, tu) {
-                            valid.entry(key(step.cluster_u, tu)).or_insert(PairOrigin::FourCycle {
-                                step: k,
-                                on_u: true,
-                                other: tu,
-                                opposite: tw,
-                                far,
-                            });
-                        }
-                        if asked.may_ask(clusters, step.cluster_w, tw) {
-                            valid.entry(key(step.cluster_w, tw)).or_insert(PairOrigin::FourCycle {
-                                step: k,
-                                on_u: false,
-                                other: tw,
-                                opposite: tu,
-                                far,
-                            });
+                        // Step k's cluster on each side hinged to the built cluster there.
+                        for (own, other, opposite, on_u) in
+                            [(step.cluster_u, tu, tw, true), (step.cluster_w, tw, tu, false)]
+                        {
+                            if asked.may_ask(clusters, own, other) {
+                                let origin = PairOrigin::FourCycle { step: k, on_u, other, opposite, far };
+                                valid.entry(key(own, other)).or_insert(origin);
+                            }
                         }
                     }
                 }
