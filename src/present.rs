@@ -347,7 +347,7 @@ pub fn warning(w: &Warning, n: Names) -> String {
             }
             if events.is_empty() {
                 return format!(
-                    "an end at λ = {at} where no step is flat (a degenerate place: a step's base joints coincide there, so its vertex can turn freely, an extra degree of freedom): each listed component ends there; motions through that turn are not followed"
+                    "an end at λ = {at} where no step is flat (a degenerate place: a step's base joints coincide there, so its vertex can turn freely, an extra degree of freedom): each listed component ends there; motions through that turn are not followed (a base whose joints never meet follows them; caymos picks one when the scene names no base)"
                 );
             }
             let what = if *ways == 0 { "a dead end" } else { "a branch point" };

@@ -275,3 +275,48 @@ fn ground_joints_in_no_rigid_part_together_are_warned_about() {
         assert!(!moves(&analyse(bundled::load(s.name).unwrap(), None).unwrap()), "{}", s.name);
     }
 }
+
+/// A kite A-B-C-D (AB = BC = 3, CD = DA = 4) with a dyad E ◁ (B, D). On
+/// base A–C both steps on the base have equal sides, so at λ = 0 A and C
+/// meet and B and D turn freely about them: a motion no λ follows, and
+/// that base counts 4 connected sets where the three bases that keep
+/// their joints apart count 2. With no base named, caymos chooses one of
+/// those (it used to choose A–C); named, A–C is kept and the report says
+/// where its count stops.
+#[test]
+fn an_automatic_base_keeps_its_joints_apart() {
+    let kite = |base: &str| {
+        format!(
+            r#"name = "kite with dyad"
+{base}bars = [
+  ["A", "B", 3], ["B", "C", 3], ["C", "D", 4], ["D", "A", 4],
+  ["B", "E", 6.5], ["D", "E", 6.5],
+]
+[joints]
+A = [0.0, 0.0]
+B = [0.3, 2.0]
+C = [3.0, 0.4]
+D = [1.5, -1.8]
+E = [2.4, 2.6]
+"#
+        )
+    };
+    let (a, s) = solve_text(&kite(""), "kite.toml");
+    assert!(s.dec.base_chosen);
+    assert_ne!(pair_names(&a, s.dec.base), ["A", "C"]);
+    assert_eq!(s.components.connected_set_count(), 2);
+    for base in s.dec.other_bases(&a.linkage) {
+        let (_, t) = solve_with(a.scene.clone(), Some(base), caymos::analysis::Scope::Full);
+        let sets = t.components.connected_set_count();
+        if pair_names(&a, base) == ["A", "C"] {
+            assert_eq!(sets, 4, "base A–C does not follow the turn at λ = 0");
+        } else {
+            assert_eq!(sets, 2, "base {:?}", pair_names(&a, base));
+        }
+    }
+    let dir = scratch("kite-base");
+    let named = write(&dir, "kite.toml", &kite("base = [\"A\", \"C\"]\n"));
+    let text = stdout(&caymos(&["report", &named]));
+    assert!(text.contains("Base non-edge           A–C (given)"), "{text}");
+    assert!(text.contains("a base whose joints never meet follows them"), "{text}");
+}

@@ -428,6 +428,16 @@ fn nearest_realizable(con: &Construction<f64>, ty: &crate::realize::RealizationT
     Some(inside)
 }
 
+/// Whether every step on the base has equal sides (decided exactly), so
+/// that each can fold to d = 0: at λ = 0 the base joints may meet, and the
+/// vertices there turn freely, a motion no λ follows.
+fn base_joints_may_meet(con: &Construction<f64>, cert: &Certifier) -> bool {
+    (0..con.steps.len()).filter(|&k| con.on_base(k)).all(|k| cert.kinds(k).len() == 1)
+}
+
+/// Other valid bases tried for one whose joints never meet.
+const MAX_BASES_TRIED: usize = 8;
+
 /// The λ of `ty` nearest to `lambda` (itself if realizable), from the type's intervals.
 pub fn nearest_attainable(space: &CayleySpace<f64>, ty: &crate::realize::RealizationType, lambda: f64) -> Option<f64> {
     space
@@ -770,13 +780,29 @@ pub fn analyse_checked(
     {
         warnings.push(Warning::GroundMoves { joints: [a, b].map(|j| linkage.names[j].clone()) });
     }
+    let built = |dec: Arc<Decomposition>, timings: &mut Timings| {
+        let construction = timings
+            .time("construction", || Construction::<f64>::new(&linkage, &dec))
+            .map(Arc::new)
+            .map_err(|e| scene.error_at(None, e.0))?;
+        let certifier = Certifier::shared(linkage.clone(), dec.clone(), construction.clone())
+            .expect("the f64 construction succeeded, so the ball ones do");
+        Ok::<_, SceneError>((dec, construction, certifier))
+    };
+    let (mut dec, mut construction, mut certifier) = built(dec, &mut timings)?;
+    if dec.base_chosen && base_joints_may_meet(&construction, &certifier) {
+        // Another valid base, if one keeps its joints apart, sees the whole motion.
+        for f in dec.other_bases(&linkage).into_iter().take(MAX_BASES_TRIED) {
+            let Ok(Ok(other)) = decompose(&linkage, Some(f)) else { continue };
+            let other = Decomposition { base_chosen: true, ..other };
+            let (d, con, cert) = built(Arc::new(other), &mut timings)?;
+            if !base_joints_may_meet(&con, &cert) {
+                (dec, construction, certifier) = (d, con, cert);
+                break;
+            }
+        }
+    }
     let complexity = timings.time("four_cycle", || four_cycle_test(&dec));
-    let construction = timings
-        .time("construction", || Construction::<f64>::new(&linkage, &dec))
-        .map(Arc::new)
-        .map_err(|e| scene.error_at(None, e.0))?;
-    let certifier = Certifier::shared(linkage.clone(), dec.clone(), construction.clone())
-        .expect("the f64 construction succeeded, so the ball ones do");
     let drawn = drawn_realization(&linkage, &dec);
     warnings.extend(drawn.flat_steps.iter().map(|&step| Warning::FlatInDrawing { step }));
     // A sketch whose drawn λ its type cannot reach has no start for the walk:
