@@ -206,3 +206,40 @@ fn a_trace_through_a_near_rhombus_meets_every_bar() {
         assert!(rows > 100, "component {component}: {rows} continuous rows");
     }
 }
+
+/// A near-parallelogram (AB = CD = 5, BC = 1, DA = 1 + 1e-15) with a dyad
+/// E ◁ (B, D), base A–E. Step C ◁ (B, D) dips 1e-15 below flat where |BD|
+/// peaks at 6 + 1e-15 (and likewise folded at 4 − 1e-15): two roots
+/// 8e-8 apart, at the rounding level of the f64 slack. The lazy walk took
+/// each for a touch ("two endpoints or none") and walked one interval
+/// [3.5, 5.5] where the full analysis, and a 60-digit computation, end at
+/// the first root. The certifier now decides the sign at the dip and
+/// bisection on its signs places the root.
+#[test]
+fn a_dip_below_zero_at_the_rounding_level_is_a_pair_of_roots_lazily_too() {
+    let text = r#"
+name = "near-parallelogram with dyad"
+base = ["A", "E"]
+bars = [
+  ["A", "B", 5], ["B", "C", 1], ["C", "D", 5], ["D", "A", 1.000000000000001],
+  ["B", "E", 6.5], ["D", "E", 4.5],
+]
+[joints]
+A = [0.0, 0.0]
+B = [0.3, 2.0]
+C = [3.0, 0.4]
+D = [1.5, -1.8]
+E = [2.4, 2.6]
+"#;
+    let (a, full) = solve_text(text, "dip.toml");
+    let (_, lazy) = solve_with(a.scene.clone(), None, Scope::Lazy);
+    assert_lazy_is_a_full_component(&lazy, &full, "dip");
+    // The roots from mpmath at 60 digits (4.34932940943845234…, 4.44409715873697102…), rounded.
+    let truth = [4.349329409438452, 4.444097158736971];
+    let uppers: Vec<f64> = lazy.space.intervals.iter().map(|iv| iv.upper.lambda).collect();
+    for t in truth {
+        assert!(uppers.iter().any(|&u| (u - t).abs() <= 1e-15 * t), "{t} among {uppers:?}");
+    }
+    assert_eq!(lazy.certifier.estimated(), 0);
+    assert!(!lazy.space.notes.iter().any(|n| matches!(n, caymos::cayley_space::Note::Tangency { .. })));
+}
