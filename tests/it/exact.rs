@@ -207,17 +207,8 @@ fn a_trace_through_a_near_rhombus_meets_every_bar() {
     }
 }
 
-/// A near-parallelogram (AB = CD = 5, BC = 1, DA = 1 + 1e-15) with a dyad
-/// E ◁ (B, D), base A–E. Step C ◁ (B, D) dips 1e-15 below flat where |BD|
-/// peaks at 6 + 1e-15 (and likewise folded at 4 − 1e-15): two roots
-/// 8e-8 apart, at the rounding level of the f64 slack. The lazy walk took
-/// each for a touch ("two endpoints or none") and walked one interval
-/// [3.5, 5.5] where the full analysis, and a 60-digit computation, end at
-/// the first root. The certifier now decides the sign at the dip and
-/// bisection on its signs places the root.
-#[test]
-fn a_dip_below_zero_at_the_rounding_level_is_a_pair_of_roots_lazily_too() {
-    let text = r#"
+/// A near-parallelogram with a dyad whose step C dips 1e-15 below flat.
+const DIP: &str = r#"
 name = "near-parallelogram with dyad"
 base = ["A", "E"]
 bars = [
@@ -231,7 +222,18 @@ C = [3.0, 0.4]
 D = [1.5, -1.8]
 E = [2.4, 2.6]
 "#;
-    let (a, full) = solve_text(text, "dip.toml");
+
+/// A near-parallelogram (AB = CD = 5, BC = 1, DA = 1 + 1e-15) with a dyad
+/// E ◁ (B, D), base A–E. Step C ◁ (B, D) dips 1e-15 below flat where |BD|
+/// peaks at 6 + 1e-15 (and likewise folded at 4 − 1e-15): two roots
+/// 8e-8 apart, at the rounding level of the f64 slack. The lazy walk took
+/// each for a touch ("two endpoints or none") and walked one interval
+/// [3.5, 5.5] where the full analysis, and a 60-digit computation, end at
+/// the first root. The certifier now decides the sign at the dip and
+/// bisection on its signs places the root.
+#[test]
+fn a_dip_below_zero_at_the_rounding_level_is_a_pair_of_roots_lazily_too() {
+    let (a, full) = solve_text(DIP, "dip.toml");
     let (_, lazy) = solve_with(a.scene.clone(), None, Scope::Lazy);
     assert_lazy_is_a_full_component(&lazy, &full, "dip");
     // The roots from mpmath at 60 digits (4.34932940943845234…, 4.44409715873697102…), rounded.
@@ -242,4 +244,24 @@ E = [2.4, 2.6]
     }
     assert_eq!(lazy.certifier.estimated(), 0);
     assert!(!lazy.space.notes.iter().any(|n| matches!(n, caymos::cayley_space::Note::Tangency { .. })));
+}
+
+/// The same dip in the full sweep's numeric search (the method for steps
+/// no closed form carries, and `bench`'s numeric rows): its extremum read
+/// within `ROOT_VALUE` of zero was one "tangent root", so 8 of the 16
+/// intervals were missing. The certifier now decides the sign there, and
+/// the numeric sweep gives the closed form's intervals.
+#[test]
+fn the_numeric_sweep_finds_both_roots_of_a_dip() {
+    use caymos::cayley_space::{Method, cayley_space};
+    let (_, s) = solve_text(DIP, "dip.toml");
+    let numeric = Method::Numeric { samples: 32, tol: 0.0 };
+    let n = cayley_space(&*s.construction, &s.certifier, &s.dec, &s.complexity, numeric);
+    assert_eq!(n.intervals.len(), s.space.intervals.len());
+    for (x, y) in n.intervals.iter().zip(&s.space.intervals) {
+        assert_eq!((&x.ty, &x.lower.events, &x.upper.events), (&y.ty, &y.lower.events, &y.upper.events));
+        for (p, q) in [(x.lower.lambda, y.lower.lambda), (x.upper.lambda, y.upper.lambda)] {
+            assert!((p - q).abs() <= 1e-14 * q, "{p} vs {q}");
+        }
+    }
 }

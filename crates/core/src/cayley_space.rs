@@ -549,7 +549,7 @@ impl<T: Real> Sweep<'_, T> {
             let candidates: &[Candidate<T>] = match &self.exact[k] {
                 Some(c) => &c[ki],
                 None => {
-                    let roots = self.numeric_roots(k, bits, piece, self.target(k, kind));
+                    let roots = self.numeric_roots((k, kind), bits, piece);
                     numeric = roots.into_iter().map(Candidate::unknown).collect();
                     &numeric
                 }
@@ -855,29 +855,45 @@ impl<T: Real> Sweep<'_, T> {
     /// Guarantee: every root is found provided no gap between samples holds
     /// two inflections of d_k with g″ of equal sign at its ends (g″ would
     /// change sign twice within 1/N of the piece); a near-double root whose
-    /// extremum value is within [`tolerance::ROOT_VALUE`] of zero is reported
-    /// as one tangent root and flagged [`Note::Unresolved`].
-    fn numeric_roots(&mut self, k: usize, bits: &[bool], piece: &Piece<T>, t: T) -> Vec<T> {
+    /// extremum value is within [`tolerance::ROOT_VALUE`] of zero is decided
+    /// by the certifier's sign there (two roots, placed by bisection on its
+    /// signs, or none); where it cannot decide, reported as one tangent root
+    /// and flagged [`Note::Unresolved`].
+    fn numeric_roots(&mut self, (k, kind): (usize, Kind), bits: &[bool], piece: &Piece<T>) -> Vec<T> {
         let (lo, hi) = (piece.lo.lambda, piece.hi.lambda);
+        let t = self.target(k, kind);
         let eval = |this: &Self, x: T| this.distance(k, bits, x).map(|d| d - Jet::constant(t));
         let n = self.samples;
         let xs: Vec<T> = (0..=n).map(|i| cosine_sample(lo, hi, i, n)).collect();
         let mut roots = Vec::new();
         for w in xs.windows(2) {
-            self.numeric_gap(k, w[0], w[1], &eval, 0, &mut roots);
+            self.numeric_gap((k, kind, bits), w[0], w[1], &eval, 0, &mut roots);
         }
         roots
     }
 
+    /// The certifier's sign of g = d_k − t at `x` (the slack's for folded,
+    /// its opposite for stretched); `None` where g has no value.
+    fn proven_g_sign(&self, (k, kind, bits): (usize, Kind, &[bool]), x: T) -> Option<i8> {
+        let s = match self.cert.slack_sign(bits, Place { lambda: x.to_f64(), events: &[] }, k, kind) {
+            Sign::Positive => 1,
+            Sign::Negative => -1,
+            Sign::Zero => 0,
+            Sign::Undefined => return None,
+        };
+        Some(if kind == Kind::Stretched { -s } else { s })
+    }
+
     fn numeric_gap(
         &mut self,
-        k: usize,
+        question: (usize, Kind, &[bool]),
         a: T,
         b: T,
         eval: &dyn Fn(&Self, T) -> Option<Jet<T>>,
         depth: u32,
         roots: &mut Vec<T>,
     ) {
+        let k = question.0;
         let (Some(ga), Some(gb)) = (eval(self, a), eval(self, b)) else { return };
         let finite = |g: &Jet<T>| g.d.to_f64().is_finite() && g.s.to_f64().is_finite();
         let value_change = sign(ga.v) * sign(gb.v) < 0;
@@ -899,8 +915,8 @@ impl<T: Real> Sweep<'_, T> {
             let margin = (b - a) * T::from_f64(tolerance::INFLECTION_AT_END);
             if c - a > margin && b - c > margin {
                 if depth < tolerance::ROOT_MAX_SPLITS {
-                    self.numeric_gap(k, a, c, eval, depth + 1, roots);
-                    self.numeric_gap(k, c, b, eval, depth + 1, roots);
+                    self.numeric_gap(question, a, c, eval, depth + 1, roots);
+                    self.numeric_gap(question, c, b, eval, depth + 1, roots);
                 } else {
                     self.notes.push(Note::Unresolved { lambda: a.to_f64(), step: k, why: Unresolved::Inflections });
                 }
@@ -915,14 +931,31 @@ impl<T: Real> Sweep<'_, T> {
             let e = bisect(a, b, T::zero(), |x| eval(self, x).map(|g| sign(g.d)));
             let Some(ge) = eval(self, e) else { return };
             let touch = T::from_f64(tolerance::ROOT_VALUE * self.con.scale);
-            if let Extremum::Touch { exact } = Extremum::of(ge.v, touch) {
-                roots.push(e);
-                if !exact {
-                    self.notes.push(Note::near_double_root(e.to_f64(), k));
+            match Extremum::of(ge.v, touch) {
+                // Near zero the f64 value says nothing: the certifier decides.
+                Extremum::Touch { exact: false } => match self.proven_g_sign(question, e) {
+                    Some(s) if s != 0 && s != sign(ga.v) => {
+                        // Two roots: the signs the certifier cannot prove lie
+                        // within its resolution of a root and only place it.
+                        let estimated = self.cert.estimated();
+                        let g = |x: T| self.proven_g_sign(question, x);
+                        let found = [bisect(a, e, T::zero(), g), bisect(e, b, T::zero(), g)];
+                        self.cert.rewind_estimated(estimated);
+                        roots.extend(found);
+                    }
+                    Some(s) if s != 0 => {}
+                    _ => {
+                        roots.push(e);
+                        self.notes.push(Note::near_double_root(e.to_f64(), k));
+                    }
+                },
+                // Exactly zero: a tangent root.
+                Extremum::Touch { .. } => roots.push(e),
+                _ if sign(ge.v) * sign(ga.v) < 0 => {
+                    roots.push(bisect(a, e, self.root_tol, |x| eval(self, x).map(|g| sign(g.v))));
+                    roots.push(bisect(e, b, self.root_tol, |x| eval(self, x).map(|g| sign(g.v))));
                 }
-            } else if sign(ge.v) * sign(ga.v) < 0 {
-                roots.push(bisect(a, e, self.root_tol, |x| eval(self, x).map(|g| sign(g.v))));
-                roots.push(bisect(e, b, self.root_tol, |x| eval(self, x).map(|g| sign(g.v))));
+                _ => {}
             }
         }
     }
