@@ -265,3 +265,24 @@ fn the_numeric_sweep_finds_both_roots_of_a_dip() {
         }
     }
 }
+
+/// A near-kite (AB = BC = 3, CD = 4, DA = 4 + 1e-15) with a dyad, base
+/// A–E: step C ◁ (B, D) with 3 and 4 dips 1e-15 below stretched where A
+/// lies between B and D. There the f64 slack at the minimum is exactly 0,
+/// which the walk took as a proven tangency: `--lazy` walked 2 intervals
+/// where the full analysis's component has 6. An f64 zero proves nothing;
+/// the certifier decides it as any other value near zero.
+#[test]
+fn an_f64_zero_at_a_dip_is_no_tangency() {
+    let text = DIP
+        .replace(
+            "[\"A\", \"B\", 5], [\"B\", \"C\", 1], [\"C\", \"D\", 5], [\"D\", \"A\", 1.000000000000001]",
+            "[\"A\", \"B\", 3], [\"B\", \"C\", 3], [\"C\", \"D\", 4], [\"D\", \"A\", 4.000000000000001]",
+        )
+        .replace("[\"B\", \"E\", 6.5], [\"D\", \"E\", 4.5]", "[\"B\", \"E\", 5.5], [\"D\", \"E\", 4.5]");
+    assert!(text.contains("4.000000000000001"));
+    let (a, full) = solve_text(&text, "kite-dip.toml");
+    let (_, lazy) = solve_with(a.scene.clone(), None, Scope::Lazy);
+    assert_lazy_is_a_full_component(&lazy, &full, "kite dip");
+    assert_eq!(lazy.space.intervals.len(), 6);
+}

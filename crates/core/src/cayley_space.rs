@@ -932,8 +932,9 @@ impl<T: Real> Sweep<'_, T> {
             let Some(ge) = eval(self, e) else { return };
             let touch = T::from_f64(tolerance::ROOT_VALUE * self.con.scale);
             match Extremum::of(ge.v, touch) {
-                // Near zero the f64 value says nothing: the certifier decides.
-                Extremum::Touch { exact: false } => match self.proven_g_sign(question, e) {
+                // Near zero the f64 value says nothing (nor does an f64
+                // value of exactly zero): the certifier decides.
+                Extremum::Touch { exact } => match self.proven_g_sign(question, e) {
                     Some(s) if s != 0 && s != sign(ga.v) => {
                         // Two roots: the signs the certifier cannot prove lie
                         // within its resolution of a root and only place it.
@@ -946,11 +947,11 @@ impl<T: Real> Sweep<'_, T> {
                     Some(s) if s != 0 => {}
                     _ => {
                         roots.push(e);
-                        self.notes.push(Note::near_double_root(e.to_f64(), k));
+                        if !exact {
+                            self.notes.push(Note::near_double_root(e.to_f64(), k));
+                        }
                     }
                 },
-                // Exactly zero: a tangent root.
-                Extremum::Touch { .. } => roots.push(e),
                 _ if sign(ge.v) * sign(ga.v) < 0 => {
                     roots.push(bisect(a, e, self.root_tol, |x| eval(self, x).map(|g| sign(g.v))));
                     roots.push(bisect(e, b, self.root_tol, |x| eval(self, x).map(|g| sign(g.v))));

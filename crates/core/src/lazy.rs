@@ -1606,12 +1606,13 @@ impl<'a, T: Real> Walker<'a, T> {
         let m = newton(a, b, |x| slope(self, x).map(|s| (-s.d, -s.s * dir)));
         let sm = slope(self, m)?;
         // Near zero the f64 value says nothing: the certifier decides the sign there.
+        // (An f64 value of exactly zero proves nothing either.)
         let extremum = match Extremum::of(sm.v, self.root_value) {
-            Extremum::Touch { exact: false } => {
+            Extremum::Touch { exact } => {
                 match self.cert.slack_sign(along.bits, At { lambda: m.to_f64(), events: &[] }, k, kind) {
                     Sign::Positive => Extremum::Above,
                     Sign::Negative => return Some(self.locate_certified(along, a, m)),
-                    _ => Extremum::Touch { exact: false },
+                    _ => Extremum::Touch { exact },
                 }
             }
             other => other,
