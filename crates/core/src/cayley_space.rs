@@ -685,11 +685,27 @@ impl<T: Real> Sweep<'_, T> {
             let p = self.with_coincident(piece.lo.clone(), &at_lo, k);
             out.push(Piece { lo: p.clone(), hi: p, touch: true });
         }
+        // A feasible run reaching an end where step k is proven not to close
+        // (and no root of k lies inside, in `T`): k's root lies between the
+        // run and the end, closer to the end than `T` resolves (two base
+        // steps whose targets round to one f64, 9 and 9 + 1e-15), so the end
+        // is k's: the earlier step is not flat there.
+        let failing = |signs: [Sign; 2]| {
+            [Kind::Stretched, Kind::Folded]
+                .into_iter()
+                .zip(signs)
+                .find(|&(_, s)| s == Sign::Negative)
+                .map(|(kind, _)| kind)
+        };
+        let end_of = |this: &mut Self, end: &Endpoint<T>, flat: &[Root<T>], signs: [Sign; 2]| match failing(signs) {
+            Some(kind) => this.ids.make(end.lambda, Events::one(Event { step: k, kind })),
+            None => this.with_coincident(end.clone(), flat, k),
+        };
         let mut start: Option<Endpoint<T>> = None;
         for g in 0..n_gaps {
             if feasible[g] && start.is_none() {
                 start = Some(if g == 0 {
-                    self.with_coincident(piece.lo.clone(), &at_lo, k)
+                    end_of(self, &piece.lo, &at_lo, ends[0])
                 } else {
                     let r = inside[g - 1];
                     self.ids.make(r.lambda, Events::one(event(&r)))
@@ -697,7 +713,7 @@ impl<T: Real> Sweep<'_, T> {
             }
             if g == n_gaps - 1 {
                 if let Some(lo) = start.take() {
-                    let hi = self.with_coincident(piece.hi.clone(), &at_hi, k);
+                    let hi = end_of(self, &piece.hi, &at_hi, ends[1]);
                     out.push(Piece { lo, hi, touch: false });
                 } else if isolated_end(&at_hi, ends[1], feasible[g]) {
                     let p = self.with_coincident(piece.hi.clone(), &at_hi, k);
