@@ -210,21 +210,11 @@ fn a_trace_through_a_near_rhombus_meets_every_bar() {
     }
 }
 
-/// A near-parallelogram with a dyad whose step C dips 1e-15 below flat.
-const DIP: &str = r#"
-name = "near-parallelogram with dyad"
-base = ["A", "E"]
-bars = [
-  ["A", "B", 5], ["B", "C", 1], ["C", "D", 5], ["D", "A", 1.000000000000001],
-  ["B", "E", 6.5], ["D", "E", 4.5],
-]
-[joints]
-A = [0.0, 0.0]
-B = [0.3, 2.0]
-C = [3.0, 0.4]
-D = [1.5, -1.8]
-E = [2.4, 2.6]
-"#;
+/// A near-parallelogram (AB = CD = 5, BC = 1, DA = 1 + 1e-15) with a dyad
+/// E ◁ (B, D) (6.5, 4.5) on base A–E, whose step C dips 1e-15 below flat.
+fn dip() -> String {
+    four_bar_with_dyad_text(Some(["A", "E"]), ["5", "1", "5", "1.000000000000001"], ["6.5", "4.5"])
+}
 
 /// A near-parallelogram (AB = CD = 5, BC = 1, DA = 1 + 1e-15) with a dyad
 /// E ◁ (B, D), base A–E. Step C ◁ (B, D) dips 1e-15 below flat where |BD|
@@ -236,7 +226,7 @@ E = [2.4, 2.6]
 /// bisection on its signs places the root.
 #[test]
 fn a_dip_below_zero_at_the_rounding_level_is_a_pair_of_roots_lazily_too() {
-    let (a, full) = solve_text(DIP, "dip.toml");
+    let (a, full) = solve_text(&dip(), "dip.toml");
     let (_, lazy) = solve_with(a.scene.clone(), None, Scope::Lazy);
     assert_lazy_is_a_full_component(&lazy, &full, "dip");
     // The roots from mpmath at 60 digits (4.34932940943845234…, 4.44409715873697102…), rounded.
@@ -257,7 +247,7 @@ fn a_dip_below_zero_at_the_rounding_level_is_a_pair_of_roots_lazily_too() {
 #[test]
 fn the_numeric_sweep_finds_both_roots_of_a_dip() {
     use caymos::cayley_space::{Method, cayley_space};
-    let (_, s) = solve_text(DIP, "dip.toml");
+    let (_, s) = solve_text(&dip(), "dip.toml");
     let numeric = Method::Numeric { samples: 32, tol: 0.0 };
     let n = cayley_space(&*s.construction, &s.certifier, &s.dec, &s.complexity, numeric);
     assert_eq!(n.intervals.len(), s.space.intervals.len());
@@ -277,13 +267,7 @@ fn the_numeric_sweep_finds_both_roots_of_a_dip() {
 /// the certifier decides it as any other value near zero.
 #[test]
 fn an_f64_zero_at_a_dip_is_no_tangency() {
-    let text = DIP
-        .replace(
-            "[\"A\", \"B\", 5], [\"B\", \"C\", 1], [\"C\", \"D\", 5], [\"D\", \"A\", 1.000000000000001]",
-            "[\"A\", \"B\", 3], [\"B\", \"C\", 3], [\"C\", \"D\", 4], [\"D\", \"A\", 4.000000000000001]",
-        )
-        .replace("[\"B\", \"E\", 6.5], [\"D\", \"E\", 4.5]", "[\"B\", \"E\", 5.5], [\"D\", \"E\", 4.5]");
-    assert!(text.contains("4.000000000000001"));
+    let text = four_bar_with_dyad_text(Some(["A", "E"]), ["3", "3", "4", "4.000000000000001"], ["5.5", "4.5"]);
     let (a, full) = solve_text(&text, "kite-dip.toml");
     let (_, lazy) = solve_with(a.scene.clone(), None, Scope::Lazy);
     assert_lazy_is_a_full_component(&lazy, &full, "kite dip");
@@ -299,14 +283,7 @@ fn an_f64_zero_at_a_dip_is_no_tangency() {
 /// step proven to fail there.
 #[test]
 fn an_end_belongs_to_the_step_proven_to_fail_there() {
-    let text = DIP
-        .replace("base = [\"A\", \"E\"]", "base = [\"B\", \"D\"]")
-        .replace(
-            "[\"A\", \"B\", 5], [\"B\", \"C\", 1], [\"C\", \"D\", 5], [\"D\", \"A\", 1.000000000000001]",
-            "[\"A\", \"B\", 4], [\"B\", \"C\", 4], [\"C\", \"D\", 5], [\"D\", \"A\", 5.000000000000001]",
-        )
-        .replace("[\"B\", \"E\", 6.5], [\"D\", \"E\", 4.5]", "[\"B\", \"E\", 7.5], [\"D\", \"E\", 5.5]");
-    assert!(text.contains("5.000000000000001") && text.contains("[\"B\", \"D\"]"));
+    let text = four_bar_with_dyad_text(Some(["B", "D"]), ["4", "4", "5", "5.000000000000001"], ["7.5", "5.5"]);
     let (a, full) = solve_text(&text, "near-kite.toml");
     let c = a.linkage.names.iter().position(|n| n == "C").unwrap();
     let c_step = full.dec.steps.iter().position(|s| s.vertex == c).unwrap();

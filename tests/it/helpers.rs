@@ -94,3 +94,14 @@ pub fn scaled_as_written(mut scene: Scene, exponent: i32) -> Scene {
     }
     scene
 }
+
+/// A four-bar A-B-C-D with a dyad E ◁ (B, D) as scene text, every length
+/// stated as written (`sides`: AB, BC, CD, DA; `dyad`: BE, DE), on `base`
+/// or none; drawn as `generate::four_bar_with_dyad` draws it (the drawing
+/// fixes only orientations).
+pub fn four_bar_with_dyad_text(base: Option<[&str; 2]>, [ab, bc, cd, da]: [&str; 4], [be, de]: [&str; 2]) -> String {
+    let base = base.map_or(String::new(), |[u, w]| format!("base = [\"{u}\", \"{w}\"]\n"));
+    format!(
+        "name = \"four-bar with dyad\"\n{base}bars = [\n  [\"A\", \"B\", {ab}], [\"B\", \"C\", {bc}], [\"C\", \"D\", {cd}], [\"D\", \"A\", {da}],\n  [\"B\", \"E\", {be}], [\"D\", \"E\", {de}],\n]\n[joints]\nA = [0.0, 0.0]\nB = [0.3, 2.0]\nC = [3.0, 0.4]\nD = [1.5, -1.8]\nE = [2.4, 2.6]\n"
+    )
+}

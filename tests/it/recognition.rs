@@ -285,23 +285,8 @@ fn ground_joints_in_no_rigid_part_together_are_warned_about() {
 /// where its count stops.
 #[test]
 fn an_automatic_base_keeps_its_joints_apart() {
-    let kite = |base: &str| {
-        format!(
-            r#"name = "kite with dyad"
-{base}bars = [
-  ["A", "B", 3], ["B", "C", 3], ["C", "D", 4], ["D", "A", 4],
-  ["B", "E", 6.5], ["D", "E", 6.5],
-]
-[joints]
-A = [0.0, 0.0]
-B = [0.3, 2.0]
-C = [3.0, 0.4]
-D = [1.5, -1.8]
-E = [2.4, 2.6]
-"#
-        )
-    };
-    let (a, s) = solve_text(&kite(""), "kite.toml");
+    let kite = |base| four_bar_with_dyad_text(base, ["3", "3", "4", "4"], ["6.5", "6.5"]);
+    let (a, s) = solve_text(&kite(None), "kite.toml");
     assert!(s.dec.base_chosen);
     assert_ne!(pair_names(&a, s.dec.base), ["A", "C"]);
     assert_eq!(s.components.connected_set_count(), 2);
@@ -315,7 +300,7 @@ E = [2.4, 2.6]
         }
     }
     let dir = scratch("kite-base");
-    let named = write(&dir, "kite.toml", &kite("base = [\"A\", \"C\"]\n"));
+    let named = write(&dir, "kite.toml", &kite(Some(["A", "C"])));
     let text = stdout(&caymos(&["report", &named]));
     assert!(text.contains("Base non-edge           A–C (given)"), "{text}");
     assert!(text.contains("a base whose joints never meet follows them"), "{text}");
