@@ -891,12 +891,7 @@ impl<T: Real> Sweep<'_, T> {
     /// The certifier's sign of g = d_k − t at `x` (the slack's for folded,
     /// its opposite for stretched); `None` where g has no value.
     fn proven_g_sign(&self, (k, kind, bits): (usize, Kind, &[bool]), x: T) -> Option<i8> {
-        let s = match self.cert.slack_sign(bits, Place { lambda: x.to_f64(), events: &[] }, k, kind) {
-            Sign::Positive => 1,
-            Sign::Negative => -1,
-            Sign::Zero => 0,
-            Sign::Undefined => return None,
-        };
+        let s = self.cert.slack_sign(bits, Place { lambda: x.to_f64(), events: &[] }, k, kind).to_i8()?;
         Some(if kind == Kind::Stretched { -s } else { s })
     }
 
@@ -952,13 +947,11 @@ impl<T: Real> Sweep<'_, T> {
                 // value of exactly zero): the certifier decides.
                 Extremum::Touch { exact } => match self.proven_g_sign(question, e) {
                     Some(s) if s != 0 && s != sign(ga.v) => {
-                        // Two roots: the signs the certifier cannot prove lie
-                        // within its resolution of a root and only place it.
-                        let estimated = self.cert.estimated();
-                        let g = |x: T| self.proven_g_sign(question, x);
-                        let found = [bisect(a, e, T::zero(), g), bisect(e, b, T::zero(), g)];
-                        self.cert.rewind_estimated(estimated);
-                        roots.extend(found);
+                        // Two roots, one either side of the extremum.
+                        let (kind, bits) = (question.1, question.2);
+                        for ends in [[a, e], [e, b]] {
+                            roots.push(self.cert.slack_root_between(bits, (k, kind), ends));
+                        }
                     }
                     Some(s) if s != 0 => {}
                     _ => {

@@ -52,8 +52,8 @@ use std::collections::VecDeque;
 use std::sync::mpsc;
 
 use crate::roots::{
-    Endpoint, EndpointIds, Events, Extremum, base_distance_at, between, bisect, cmp, cosine_sample, newton,
-    newton_from, newton_from_end, newton_seeded, quadratic_root, side_signs,
+    Endpoint, EndpointIds, Events, Extremum, base_distance_at, between, cmp, cosine_sample, newton, newton_from,
+    newton_from_end, newton_seeded, quadratic_root, side_signs,
 };
 use crate::tolerance;
 
@@ -1611,7 +1611,10 @@ impl<'a, T: Real> Walker<'a, T> {
             Extremum::Touch { exact } => {
                 match self.cert.slack_sign(along.bits, At { lambda: m.to_f64(), events: &[] }, k, kind) {
                     Sign::Positive => Extremum::Above,
-                    Sign::Negative => return Some(self.locate_certified(along, a, m)),
+                    Sign::Negative => {
+                        self.roots.set(self.roots.get() + 1);
+                        return Some(self.cert.slack_root_between(along.bits, (k, kind), [a, m]));
+                    }
                     _ => Extremum::Touch { exact },
                 }
             }
@@ -1634,29 +1637,6 @@ impl<'a, T: Real> Walker<'a, T> {
             }
             Extremum::Below => Some(self.locate(along, (a, sa), (m, sm))),
         }
-    }
-
-    /// The root of step k's slack between a (closes) and b (proven not to),
-    /// by bisection on the certifier's signs: where two roots lie closer
-    /// than f64 resolves the slack near them (a near-double root), Newton
-    /// on f64 values cannot place either. The signs the certifier cannot
-    /// prove are those within its resolution of the root: they place the
-    /// root, they decide nothing about the structure, so they are not
-    /// counted as estimated decisions.
-    fn locate_certified(&self, along: Along<T>, a: T, b: T) -> T {
-        let estimated = self.cert.estimated();
-        let Along { bits, k, kind, .. } = along;
-        let sign = |x: T| match self.cert.slack_sign(bits, At { lambda: x.to_f64(), events: &[] }, k, kind) {
-            Sign::Positive => Some(1),
-            Sign::Negative => Some(-1),
-            Sign::Zero => Some(0),
-            Sign::Undefined => None,
-        };
-        self.roots.set(self.roots.get() + 1);
-        let (lo, hi) = if a < b { (a, b) } else { (b, a) };
-        let root = bisect(lo, hi, T::zero(), sign);
-        self.cert.rewind_estimated(estimated);
-        root
     }
 
     /// The root of step k's slack between a (jet `sa`, value > 0) and b

@@ -61,6 +61,16 @@ impl Sign {
     fn of(sign: Option<i8>) -> Option<Sign> {
         sign.map(|s| if s > 0 { Sign::Positive } else { Sign::Negative })
     }
+
+    /// As ±1 or 0; `None` for [`Sign::Undefined`].
+    pub fn to_i8(self) -> Option<i8> {
+        match self {
+            Sign::Positive => Some(1),
+            Sign::Negative => Some(-1),
+            Sign::Zero => Some(0),
+            Sign::Undefined => None,
+        }
+    }
 }
 
 /// The construction in the three arithmetics a decision may need. The
@@ -973,6 +983,21 @@ impl Certifier {
     /// How many decisions so far rested on an estimate (see `estimate`) rather than a proof.
     pub fn estimated(&self) -> usize {
         self.counts.get().estimated
+    }
+
+    /// The root of step `k`'s slack for `kind` between `a` and `b` (in
+    /// either order), where its proven signs differ: bisection on this
+    /// certifier's signs to full precision. Where two roots lie closer
+    /// than f64 resolves the slack near them, Newton on f64 values cannot
+    /// place either. The signs it cannot prove lie within its resolution of
+    /// the root and only place it, so they are not counted as estimates.
+    pub fn slack_root_between<T: Real>(&self, bits: &[bool], (k, kind): (usize, Kind), [a, b]: [T; 2]) -> T {
+        let estimated = self.estimated();
+        let sign = |x: T| self.slack_sign(bits, At { lambda: x.to_f64(), events: &[] }, k, kind).to_i8();
+        let (lo, hi) = if a < b { (a, b) } else { (b, a) };
+        let root = crate::roots::bisect(lo, hi, T::zero(), sign);
+        self.rewind_estimated(estimated);
+        root
     }
 
     /// Whether step `k` closes at a λ inside an interval (taken as exact):
