@@ -49,6 +49,7 @@ pub mod decompose;
 pub mod distance;
 pub mod enclosure;
 pub mod exact;
+mod hinge;
 pub mod interval;
 pub mod inthash;
 pub mod invert;

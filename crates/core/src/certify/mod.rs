@@ -13,14 +13,14 @@
 //! construction over the input as written, in exact arithmetic
 //! ([`crate::exact`]): there a zero is proven.
 //!
-//! Ball radii grow with every level of a construction far faster than the
-//! real error (each level adds its inputs' radii independently), so on deep
-//! chains (past about 12 levels in f64 and 25 in double-double) balls prove
-//! nothing. There the double-double value decides when it exceeds its
-//! error estimated from the f64 − double-double difference (see
-//! [`Certifier::estimated`] for how many decisions rested on that, with
-//! the length questions whose separation bound is out of the exact
-//! stage's reach).
+//! Ball radii grow with every placement far faster than the real error
+//! (each adds its inputs' radii independently), so the base distances are
+//! enclosed step by step, each in a frame of its own ([`Hinges`]): only a
+//! scalar passes from step to step. Where balls still prove nothing, the
+//! double-double value decides when it exceeds its error estimated from
+//! the f64 − double-double difference (see [`Certifier::estimated`] for
+//! how many decisions rested on that, with the length questions whose
+//! separation bound is out of the exact stage's reach).
 //!
 //! An end λ* is the root of the flat step's slack. It is enclosed by a
 //! bracket [λ − δ, λ + δ] whose ends have proven opposite slack signs (so
@@ -35,9 +35,11 @@ mod exact_stage;
 use crate::complexity::Complexity;
 use crate::decompose::Decomposition;
 use crate::exact::Expr;
+use crate::hinge::Hinges;
 use crate::inthash::IntMap;
 use crate::linkage::Linkage;
 use crate::real::{Ball, Dd, Real, Slope};
+
 use crate::realize::{Construction, Event, Kind, P2, bits_word};
 use crate::tolerance;
 
@@ -113,12 +115,14 @@ pub struct StageCounts {
 #[derive(Debug)]
 struct Built {
     f64_balls: Construction<Ball<f64>>,
+    /// The same in slopes of balls, for mean-value enclosures ([`Hinges::enclosures`]).
+    f64_slope_balls: Construction<Slope<Ball<f64>>>,
     /// Shared with the analysis (no copy).
     f64_plain: Arc<Construction<f64>>,
     /// The double-double constructions, each built on first use (`None`:
     /// a cluster's stated lengths do not close in double-double). Deciding
     /// equal sides needs only the balls.
-    dd_balls: OnceLock<Option<Construction<Ball<Dd>>>>,
+    dd_balls: OnceLock<Option<BuiltBalls<Dd>>>,
     dd_plain: OnceLock<Option<DdPlain>>,
     /// Shared with the analysis (the double-double constructions are built
     /// from them on first use).
@@ -126,11 +130,18 @@ struct Built {
     dec: Arc<Decomposition>,
     /// Per step: the ways it can stop closing (see [`Certifier::kinds`]).
     kinds: Vec<&'static [Kind]>,
+    /// Where each step's base distance is enclosed (`None`: in the base's frame).
+    hinges: Option<Hinges>,
     /// Per step with equal sides: the two twin steps placing its base
     /// joints, if any (see [`Certifier::twins`]); empty where no step has
     /// equal sides.
     twins: Vec<Option<[usize; 2]>>,
 }
+
+/// A construction in balls and the same in slopes of balls.
+type Balls<'a, T> = (&'a Construction<Ball<T>>, &'a Construction<Slope<Ball<T>>>);
+/// [`Balls`], owned.
+type BuiltBalls<T> = (Construction<Ball<T>>, Construction<Slope<Ball<T>>>);
 
 /// An end's bracket depends on its λ, its first flat event, the type bits
 /// before that step and the arithmetic (f64 or double-double balls).
@@ -304,22 +315,6 @@ impl<T: Real + PlaceBits> Kept<T> {
     }
 }
 
-// A test turns [`Certifier::estimates_beside_end`] off in its thread, to
-// compare its signs with those at the refined root, and counts its uses there.
-#[cfg(test)]
-thread_local! {
-    pub(crate) static REFINE_ALWAYS: Cell<bool> = const { Cell::new(false) };
-    pub(crate) static BESIDE_USED: Cell<usize> = const { Cell::new(0) };
-}
-
-fn beside_allowed() -> bool {
-    #[cfg(test)]
-    if REFINE_ALWAYS.get() {
-        return false;
-    }
-    true
-}
-
 /// An end's λ in double-double depends on its f64 λ, its first flat event
 /// and the type bits before that step.
 type RefineKey = ([u64; 2], Event, u128);
@@ -383,7 +378,10 @@ impl Certifier {
     /// caller keeps too (no copy of any).
     pub fn shared(linkage: Arc<Linkage>, dec: Arc<Decomposition>, f64_plain: Arc<Construction<f64>>) -> Option<Self> {
         let f64_balls: Construction<Ball<f64>> = Construction::new(&linkage, &dec).ok()?;
+        let hinges = Hinges::new(&f64_plain);
         let built = Built {
+            hinges,
+            f64_slope_balls: f64_balls.map(Slope::constant),
             f64_balls,
             f64_plain,
             dd_balls: OnceLock::new(),
@@ -458,7 +456,22 @@ impl Certifier {
     /// The double-double ball construction (built on first use; `None`
     /// when a cluster's stated lengths do not close in double-double).
     fn dd_balls(&self) -> Option<&Construction<Ball<Dd>>> {
-        self.built.dd_balls.get_or_init(|| Construction::new(&self.built.linkage, &self.built.dec).ok()).as_ref()
+        self.dd_pair().map(|(balls, _)| balls)
+    }
+
+    /// [`Self::dd_balls`] with its slopes of balls.
+    fn dd_pair(&self) -> Option<Balls<'_, Dd>> {
+        let built = self.built.dd_balls.get_or_init(|| {
+            let balls: Construction<Ball<Dd>> = Construction::new(&self.built.linkage, &self.built.dec).ok()?;
+            let slopes = balls.map(Slope::constant);
+            Some((balls, slopes))
+        });
+        built.as_ref().map(|(b, s)| (b, s))
+    }
+
+    /// The f64 ball construction with its slopes of balls.
+    fn f64_pair(&self) -> Balls<'_, f64> {
+        (&self.built.f64_balls, &self.built.f64_slope_balls)
     }
 
     /// The double-double plain construction, with the f64 slopes (built on
@@ -734,7 +747,7 @@ impl Certifier {
         }
         let upto = questions.iter().map(|&(k, _)| k).max().unwrap_or(0);
         let Some(mask) = flat_mask(at.events).filter(|_| upto < 128) else { return [None; N] };
-        let Some(l) = self.bracket(&self.built.f64_balls, bits, at, Dd::new(at.lambda)) else { return [None; N] };
+        let Some(l) = self.bracket(self.f64_pair(), bits, at, Dd::new(at.lambda)) else { return [None; N] };
         let d = prefixes.balls.distances(&self.built.f64_balls, l, bits, upto, mask);
         let steps = &self.built.f64_balls.steps;
         let proven = |(k, kind): (usize, Kind)| {
@@ -759,7 +772,7 @@ impl Certifier {
             return None;
         }
         // λ exact, or the flat step's target: `bracket` reads no type bits for either.
-        let lambda = self.bracket(con, &[], at, Dd::new(at.lambda))?;
+        let lambda = self.bracket(self.f64_pair(), &[], at, Dd::new(at.lambda))?;
         let flat_here = |k: usize, kind: Kind| at.events.iter().any(|e| e.step == k && e.kind == kind);
         let mut signs = [Sign::Zero; N];
         for (sign, &(k, kind)) in signs.iter_mut().zip(questions) {
@@ -797,19 +810,20 @@ impl Certifier {
         let flat: Vec<usize> = at.events.iter().map(|e| e.step).filter(|&s| s < upto).collect();
         let mask = flat_mask(at.events);
         let mut prefixes = prefixes;
-        let mut enclose = |l: Ball<f64>| {
-            distances_at(
+        let mut enclose = |l: Ball<f64>| match &self.built.hinges {
+            Some(_) => self.enclosed(self.f64_pair(), (l, bits), (upto, &flat)),
+            None => distances_at(
                 prefixes.as_deref_mut().map(|p| &mut p.balls),
                 &self.built.f64_balls,
                 l,
                 bits,
                 upto,
                 (mask, &flat),
-            )
+            ),
         };
         let mut realize = |l: f64| self.built.f64_plain.base_distances_flat(l, bits, upto, &flat);
         let fast = self.evaluate(
-            &self.built.f64_balls,
+            self.f64_pair(),
             &self.built.f64_plain,
             bits,
             at,
@@ -828,29 +842,18 @@ impl Certifier {
         let hopeless = |v: &Value| v.radius.zip(v.midpoint).is_some_and(|(r, m)| r * shrink > m.abs());
         let balls = !fast.iter().filter(|v| v.proven.is_none()).all(hopeless);
         // Only the questions f64 left open, with their f64 values.
-        let (open, open_fast): (Vec<(usize, Kind)>, Vec<&Value>) =
-            questions.iter().zip(&fast).filter(|(_, f)| f.proven.is_none()).map(|(&q, f)| (q, f)).unzip();
-        // Where no ball can prove an answer, every open question is estimated.
-        if (!balls || self.dd_balls_overflow_at(bits, at))
-            && beside_allowed()
-            && let Some(mut beside) =
-                self.estimates_beside_end(prefixes.as_deref_mut().map(|p| &mut p.dd), bits, at, &open, &open_fast)
-        {
-            return fast
-                .iter()
-                .map(|f| f.proven.unwrap_or_else(|| beside.next().expect("one per open question")))
-                .collect();
-        }
+        let open: Vec<(usize, Kind)> =
+            questions.iter().zip(&fast).filter(|(_, f)| f.proven.is_none()).map(|(&q, _)| q).collect();
         let refined = self.refine_dd(bits, at, lambda);
         // A sketch whose shapes close in f64 but not in double-double (a
         // triangle at the feasibility tolerance): nothing more to prove with.
-        let (Some(dd_balls), Some(dd)) = (self.dd_balls(), self.dd_plain()) else {
+        let (Some(dd_balls), Some(dd)) = (self.dd_pair(), self.dd_plain()) else {
             return fast.iter().map(|f| f.proven.unwrap_or(Sign::Zero)).collect();
         };
         // The open questions, realized only as deep as they reach.
         let upto = open.iter().map(|&(k, _)| k).max().unwrap_or(0);
         let flat: Vec<usize> = flat.into_iter().filter(|&s| s < upto).collect();
-        let mut enclose = |l: Ball<Dd>| dd_balls.base_distances_flat(l, bits, upto, &flat);
+        let mut enclose = |l: Ball<Dd>| self.enclosed(dd_balls, (l, bits), (upto, &flat));
         let enclose: Option<&mut dyn FnMut(Ball<Dd>) -> Vec<Ball<Dd>>> = if balls { Some(&mut enclose) } else { None };
         let mut realize =
             |l: Dd| distances_at(prefixes.as_deref_mut().map(|p| &mut p.dd), &dd.plain, l, bits, upto, (mask, &flat));
@@ -893,79 +896,6 @@ impl Certifier {
     fn estimated_error(&self, f64_error: f64) -> f64 {
         f64_error * (Dd::UNIT_ROUNDOFF / f64::UNIT_ROUNDOFF) * tolerance::ESTIMATE_MARGIN
             + tolerance::ESTIMATE_FLOOR_ULPS * Dd::UNIT_ROUNDOFF * self.built.f64_balls.scale
-    }
-
-    /// [`Self::estimate`]'s signs for the questions f64 left `open` at an
-    /// end (their f64 values `fast`), from one double-double realization at the f64 end λ itself
-    /// rather than at the end's double-double root ([`Self::refine_dd`]):
-    /// that root is about s = |slack / slope| of the flat step away, which
-    /// moves each value by about its f64 slope times s. Where every value
-    /// clears twice that move plus its estimated error (so widened), each
-    /// sign is the one the value at the root gives; otherwise `None`, and
-    /// the caller refines the root. On a deep construction, where balls
-    /// prove nothing and every question is estimated, this saves Newton's
-    /// realizations. The flat steps are placed flat, and every other step
-    /// on the way must keep its slacks above twice their move (none about
-    /// flat, none failing at the root), so every value is a smooth function
-    /// of λ between here and the root; a missing or non-finite value or
-    /// slope gives `None`. Counted as [`Self::estimate`] counts.
-    fn estimates_beside_end(
-        &self,
-        kept: Option<&mut Kept<Dd>>,
-        bits: &[bool],
-        at: At,
-        open: &[(usize, Kind)],
-        fast: &[&Value],
-    ) -> Option<std::vec::IntoIter<Sign>> {
-        let &event = at.events.first()?;
-        let k = event.step;
-        let dd = self.dd_plain()?;
-        if dd.plain.on_base(k) || k >= bits.len() {
-            return None;
-        }
-        let upto = open.iter().map(|&(j, _)| j).max().unwrap_or(0).max(k);
-        let flat: Vec<usize> = at.events.iter().map(|e| e.step).filter(|&s| s < upto).collect();
-        let slopes = dd.f64_slopes.base_distances_flat(Slope::variable(at.lambda), bits, upto, &flat);
-        let values = distances_at(kept, &dd.plain, Dd::new(at.lambda), bits, upto, (flat_mask(at.events), &flat));
-        let slack = |j: usize, kind: Kind| {
-            let (s, f) = (&dd.plain.steps[j], &dd.f64_slopes.steps[j]);
-            Some((
-                kind.slack_value(s.r1, s.r2, *values.get(j)?).to_f64(),
-                kind.slack_value(f.r1, f.r2, *slopes.get(j)?).d,
-            ))
-        };
-        let (residual, slope) = slack(k, event.kind)?;
-        let off = (residual / slope).abs();
-        if !off.is_finite() {
-            return None;
-        }
-        // Every other step placed on the way keeps both slacks above twice
-        // their move: none is about flat (where values go as square roots,
-        // not linearly), and none that closes here fails at the root.
-        let clear = |i: usize| {
-            [Kind::Stretched, Kind::Folded]
-                .iter()
-                .all(|&kind| slack(i, kind).is_some_and(|(y, slope)| y - 2.0 * slope.abs() * off > 0.0))
-        };
-        if !(0..upto).filter(|i| !flat.contains(i)).all(clear) {
-            return None;
-        }
-        let mut signs = Vec::with_capacity(open.len());
-        for (&(j, kind), f) in open.iter().zip(fast) {
-            let x = f.midpoint?;
-            let (y, slope) = slack(j, kind)?;
-            let moved = 2.0 * slope.abs() * off;
-            let error = self.estimated_error((x - y).abs() + moved);
-            // (A NaN anywhere clears nothing.)
-            if (y.abs() - moved).partial_cmp(&error) != Some(std::cmp::Ordering::Greater) {
-                return None;
-            }
-            signs.push(if y > 0.0 { Sign::Positive } else { Sign::Negative });
-        }
-        self.count(|c| c.estimated += signs.len());
-        #[cfg(test)]
-        BESIDE_USED.set(BESIDE_USED.get() + 1);
-        Some(signs.into_iter())
     }
 
     /// Count `n` decisions again that rested on an estimate: the sweep's
@@ -1036,7 +966,7 @@ impl Certifier {
     #[allow(clippy::too_many_arguments)]
     fn evaluate<T: Real>(
         &self,
-        con: &Construction<Ball<T>>,
+        balls: Balls<T>,
         plain: &Construction<T>,
         bits: &[bool],
         at: At,
@@ -1045,7 +975,8 @@ impl Certifier {
         enclose: Option<&mut dyn FnMut(Ball<T>) -> Vec<Ball<T>>>,
         realize: &mut dyn FnMut(T) -> Vec<T>,
     ) -> Vec<Value> {
-        let bracket = if enclose.is_some() { self.bracket(con, bits, at, lambda) } else { None };
+        let bracket = if enclose.is_some() { self.bracket(balls, bits, at, lambda) } else { None };
+        let con = balls.0;
         let enclosures = bracket.zip(enclose).map(|(l, f)| f(l)).unwrap_or_default();
         // The plain values are only needed where a ball proves nothing.
         // Where the balls were computed their midpoints serve: each ball
@@ -1085,7 +1016,8 @@ impl Certifier {
     /// An enclosure of the end λ* near `lambda`: for an end with a flat step,
     /// the smallest tried bracket whose ends have proven opposite signs of
     /// that step's slack; inside an interval, λ itself (exact).
-    fn bracket<T: Real>(&self, con: &Construction<Ball<T>>, bits: &[bool], at: At, lambda: Dd) -> Option<Ball<T>> {
+    fn bracket<T: Real>(&self, balls: Balls<T>, bits: &[bool], at: At, lambda: Dd) -> Option<Ball<T>> {
+        let con = balls.0;
         let Some(&event) = at.events.first() else { return Some(Ball::exact(T::from_dd(lambda))) };
         // A step on the base is flat where λ is its target: the ball of that
         // target from the lengths as written encloses the end (no search).
@@ -1102,7 +1034,7 @@ impl Certifier {
         if let Some(radius) = key.as_ref().and_then(|k| self.brackets.borrow().get(k).copied()) {
             return radius.map(|r| Ball { m: T::from_dd(lambda), r });
         }
-        let found = self.search_bracket(con, bits, event, lambda);
+        let found = self.search_bracket(balls, bits, event, lambda);
         if let Some(k) = key {
             self.brackets.borrow_mut().insert(k, found.map(|b| b.r));
         }
@@ -1110,17 +1042,12 @@ impl Certifier {
     }
 
     /// The bracket search of [`Self::bracket`] for an end where `event` is flat.
-    fn search_bracket<T: Real>(
-        &self,
-        con: &Construction<Ball<T>>,
-        bits: &[bool],
-        event: Event,
-        lambda: Dd,
-    ) -> Option<Ball<T>> {
+    fn search_bracket<T: Real>(&self, balls: Balls<T>, bits: &[bool], event: Event, lambda: Dd) -> Option<Ball<T>> {
         // One block of positions for every realization of the search.
         let pos = RefCell::new(Vec::new());
+        let con = balls.0;
         let ancestors = con.ancestors(event.step);
-        let slack_ball = |x: T| Self::flat_slack_ball(con, &mut pos.borrow_mut(), &ancestors, bits, event, x);
+        let slack_ball = |x: T| self.flat_slack_ball(balls, &mut pos.borrow_mut(), &ancestors, bits, event, x);
         let centre = T::from_dd(lambda);
         let scale = con.scale;
         // A slack whose ball at the centre is already wider than the widest
@@ -1151,28 +1078,37 @@ impl Certifier {
     /// proves nothing downstream: the realization stops there).
     /// `ancestors` are the flat step's ([`Construction::ancestors`]).
     fn flat_slack_ball<T: Real>(
-        con: &Construction<Ball<T>>,
+        &self,
+        balls: Balls<T>,
         pos: &mut Vec<P2<Ball<T>>>,
         ancestors: &[bool],
         bits: &[bool],
         event: Event,
         x: T,
     ) -> Option<Ball<T>> {
-        let s = &con.steps[event.step];
+        let (k, lambda, con) = (event.step, Ball::exact(x), balls.0);
         let overflowed = |j: usize, d: &Ball<T>| ancestors[j] && !d.r.is_finite();
-        let d = con.prefix_distance_unless(pos, Ball::exact(x), bits, event.step, overflowed).ok()??;
+        let d = match &self.built.hinges {
+            Some(h) => *h.enclosures(balls, (lambda, bits), (k, &[]), overflowed)?.get(k)?,
+            None => con.prefix_distance_unless(pos, lambda, bits, k, overflowed).ok()??,
+        };
+        let s = &con.steps[k];
         Some(event.kind.slack_value(s.r1, s.r2, d))
     }
 
-    /// Whether the double-double balls cannot bracket the end at `at`: its
-    /// flat step's ball at the f64 end λ overflows (or its prefix fails),
-    /// as it then does at any λ about as near to the end (see
-    /// [`Self::search_bracket`], which gives up there).
-    fn dd_balls_overflow_at(&self, bits: &[bool], at: At) -> bool {
-        let (Some(&event), Some(con)) = (at.events.first(), self.dd_balls()) else { return false };
-        let ancestors = con.ancestors(event.step);
-        let ball = Self::flat_slack_ball(con, &mut Vec::new(), &ancestors, bits, event, Dd::new(at.lambda));
-        ball.is_none_or(|b| !b.r.is_finite())
+    /// The base distances d_0, …, d_upto in balls at `lambda`, as
+    /// [`Construction::base_distances_flat`] gives them, each enclosed in
+    /// its frame ([`Hinges`]) where the construction has them.
+    fn enclosed<T: Real>(
+        &self,
+        balls: Balls<T>,
+        (lambda, bits): (Ball<T>, &[bool]),
+        (upto, flat): (usize, &[usize]),
+    ) -> Vec<Ball<T>> {
+        match &self.built.hinges {
+            Some(h) => h.enclosures(balls, (lambda, bits), (upto, flat), |_, _| false).expect("never stopped"),
+            None => balls.0.base_distances_flat(lambda, bits, upto, flat),
+        }
     }
 
     /// The end's λ located in double-double: Newton on the flat step's
