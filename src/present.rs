@@ -320,6 +320,9 @@ pub fn warning(w: &Warning, n: Names) -> String {
             "the f64 and double-double runs found different intervals: some events are closer than f64 separates"
                 .to_string()
         }
+        Warning::WalkUnconfirmed => "the lazy walk's ends were not confirmed in double-double (events closer than f64 \
+             separates): the full sweep's component through the drawn realization is given instead"
+            .to_string(),
         Warning::SketchRelocated { ty, drawn_lambda, lambda } => format!(
             "the sketch's base length λ = {} is not attainable in its type {ty}; realized at the nearest attainable λ = {}",
             sig(*drawn_lambda),

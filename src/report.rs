@@ -416,14 +416,16 @@ impl Report {
                     .collect();
                 r.analysis = if s.lazy { AnalysisKind::Lazy } else { AnalysisKind::Full };
                 r.sweep_estimate = s.sweep_estimate;
-                r.endpoint_method = Some(if s.lazy {
+                // (A lazy analysis whose walk was not confirmed gives the sweep's component.)
+                let walked = s.lazy && matches!(s.space.method, caymos_core::Method::Numeric { .. });
+                r.endpoint_method = Some(if walked {
                     EndpointMethod::Lazy
                 } else if s.space.numeric_steps.is_empty() {
                     EndpointMethod::Exact
                 } else {
                     EndpointMethod::ExactNumeric
                 });
-                if !s.lazy {
+                if !walked {
                     r.numeric_steps = s.space.numeric_steps.iter().map(|&k| StepNo::of_index(k)).collect();
                 }
                 let sets = &s.components.connected;

@@ -8,7 +8,7 @@ use crate::cayley_space::{
     CayleySpace, Method, Note, OrientedInterval, SweepPlan, cayley_space, cayley_space_planned, union,
 };
 use crate::cayley_vector::{Mirrors, mirror_images};
-use crate::certify::Certifier;
+use crate::certify::{Certifier, StageCounts};
 use crate::complexity::{Complexity, four_cycle_test};
 use crate::decompose::{Decomposition, Outside, decompose};
 use crate::invert::candidate_search_bound;
@@ -478,6 +478,9 @@ pub enum Warning {
     },
     /// The f64 and double-double runs found different intervals.
     RunsDiffer,
+    /// The lazy walk's ends were not confirmed in double-double; the full
+    /// sweep's component through the drawn realization is given instead.
+    WalkUnconfirmed,
     /// A sketch's base length is not attainable in its type: it is realized
     /// at the nearest attainable λ instead.
     SketchRelocated {
@@ -813,6 +816,7 @@ pub fn analyse_checked(
         plan_for(scope, (&construction, Some(&certifier), &dec, &complexity), unreachable_sketch)
             .map_err(|why| scene.error_at(None, why))?;
     let lazy = plan.is_none();
+    let before_walk = certifier.stage_counts();
     let mut space = if lazy {
         timings.time("lazy_component", || {
             let jet = construction.convert::<Jet<f64>>();
@@ -839,7 +843,7 @@ pub fn analyse_checked(
             cayley_space_planned(&construction, &certifier, plan)
         })
     };
-    let accuracy = if check == SelfCheck::Skip {
+    let mut accuracy = if check == SelfCheck::Skip {
         None
     } else if lazy {
         (dec.steps.len() <= LAZY_REFERENCE_MAX_STEPS && !space.intervals.is_empty())
@@ -850,6 +854,17 @@ pub fn analyse_checked(
     } else {
         None
     };
+    // A walk whose ends double-double did not confirm escalates to the
+    // sweep, which decides close events from closed-form candidates.
+    if lazy
+        && accuracy.as_ref().is_some_and(|a| !a.same_structure)
+        && let Some((swept, swept_accuracy)) = timings.time("swept_component", || {
+            swept_component(&linkage, (&dec, &complexity), (&construction, &certifier), &drawn, before_walk)
+        })
+    {
+        warnings.push(Warning::WalkUnconfirmed);
+        (space, accuracy) = (swept, swept_accuracy);
+    }
     let union = union(&space.intervals, linkage.scale);
     if accuracy.as_ref().is_some_and(|a| !a.same_structure) {
         warnings.push(Warning::RunsDiffer);
@@ -938,6 +953,41 @@ pub fn analyse_checked(
         sweep_estimate,
     };
     Ok(Analysis { scene, linkage, outcome: Ok(solved), warnings, timings })
+}
+
+/// The full sweep's component through the drawn realization, with its
+/// accuracy, where the sweep is within the automatic budget
+/// ([`crate::tolerance::SWEEP_COST_MAX`]): what answers a lazy walk whose
+/// ends double-double did not confirm. Its intervals are sorted as the
+/// walk sorts them. The certifier's counts go back to `counts` (before
+/// the walk) first.
+fn swept_component(
+    linkage: &Linkage,
+    (dec, cx): (&Decomposition, &Complexity),
+    (con, cert): (&Construction<f64>, &Certifier),
+    drawn: &Drawn,
+    counts: StageCounts,
+) -> Option<(CayleySpace<f64>, Option<Accuracy>)> {
+    let walked = cert.stage_counts();
+    cert.rewind_counts(counts);
+    let plan = SweepPlan::new(con, Some(cert), dec, cx, Method::Exact);
+    if plan.cost() > crate::tolerance::SWEEP_COST_MAX {
+        cert.rewind_counts(walked);
+        return None;
+    }
+    let mut full = cayley_space_planned(con, cert, plan);
+    let accuracy = if full.intervals.len() <= REFERENCE_MAX_TYPES {
+        reference_accuracy(linkage, dec, cx, cert, &mut full)
+    } else {
+        None
+    };
+    let all = components(&full);
+    let at = locate(&full, &Realization { ty: drawn.ty.clone(), lambda: drawn.lambda }, linkage.scale)?;
+    let ours = all.of_interval[at];
+    let mut intervals: Vec<_> =
+        full.intervals.iter().zip(&all.of_interval).filter(|&(_, &c)| c == ours).map(|(iv, _)| iv.clone()).collect();
+    intervals.sort_by(|a, b| a.ty.cmp(&b.ty).then(a.lower.lambda.total_cmp(&b.lower.lambda)));
+    Some((CayleySpace { intervals, ..full }, accuracy))
 }
 
 /// Add `w` unless it is already there (one warning per distinct event).

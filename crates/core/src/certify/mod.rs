@@ -904,6 +904,12 @@ impl Certifier {
         self.count(|c| c.estimated += n);
     }
 
+    /// Set the decisions counted back to `counts`: those since were
+    /// discarded (a lazy walk that the sweep answers instead).
+    pub(crate) fn rewind_counts(&self, counts: StageCounts) {
+        self.counts.set(counts);
+    }
+
     /// Set the count of [`Self::estimated`] back to `n`: a lazy walk's turn
     /// walked ahead and undone.
     pub(crate) fn rewind_estimated(&self, n: usize) {
