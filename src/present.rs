@@ -331,7 +331,7 @@ pub fn warning(w: &Warning, n: Names) -> String {
         Warning::DrawnUnrealizable { ty, lambda, why } => unrealizable(why, ty, *lambda, n),
         Warning::BarResidual { residual } => format!("the drawn realization misses a bar length by {residual:.3e}"),
         Warning::EstimatedDecisions { count } => format!(
-            "{count} decisions on deep steps (is a slack zero at an end or inside a gap) rest on a double-double error estimate, not a proof: the proven bounds were too wide there (deep constructions, touching slacks)"
+            "{count} decisions (is a slack zero at an end or inside a gap) rest on a double-double error estimate, not a proof: neither balls nor the exact stage decided them (slacks that touch zero or coincide with another step's, at an end only a root defines)"
         ),
         Warning::MirrorsAtResolution => "every cluster the steps stand on is flat to double-double resolution, some not provably (three or more joints on a line as written): mirror images of realizations are taken to be realizations, and mirror-image components to be at distance 0 (not certified)".to_string(),
         Warning::BranchPoint { lambda, events, ways, through } => {

@@ -507,8 +507,8 @@ pub enum Warning {
         /// The largest bar-length miss, scene units.
         residual: f64,
     },
-    /// `count` decisions on deep steps rest on a double-double error
-    /// estimate, not a proof (the proven bounds were too wide).
+    /// `count` decisions rest on a double-double error estimate, not a
+    /// proof (neither balls nor the exact stage decided them).
     EstimatedDecisions {
         /// How many decisions.
         count: usize,

@@ -238,6 +238,11 @@ pub const ENCLOSURE_BRACKET_GROWTH: f64 = 4.0;
 /// rounding of λ ± δ keeps both tried ends inside the ball.
 pub const BRACKET_RADIUS_MARGIN: f64 = 1e-12;
 
+/// The deepest step whose slack is asked of the exact stage at an exact λ
+/// (an expression over that many placements): a bound on work. Deeper,
+/// the separation bound is far past the exact stage's reach anyway.
+pub const EXACT_SLACK_STEPS: usize = 24;
+
 /// A slack whose ball at an end's centre is already this wide (× scale)
 /// cannot prove a sign change within any bracket tried: the search is skipped.
 pub const BALL_TOO_WIDE: f64 = 1e-8;

@@ -9,7 +9,7 @@ use crate::exact::{Decided, Expr, Scope, approximate};
 use crate::invert::Inverter;
 use crate::linkage::Linkage;
 use crate::real::Dd;
-use crate::realize::{Construction, Kind};
+use crate::realize::{Construction, Event, Kind};
 
 use super::Sign;
 
@@ -60,4 +60,38 @@ pub(super) fn candidates(
     values.sort_by(|a, b| a.partial_cmp(b).unwrap_or(std::cmp::Ordering::Equal));
     values.dedup_by(|a, b| *a == *b);
     Some(values)
+}
+
+/// The signs of the slacks `questions` for the type prefix `bits` at the
+/// base length where the step on the base of `flat` is flat (its target),
+/// realized over the input as written. Every step before
+/// the deepest question must be proven to close there, each of its
+/// `kinds` slack ≥ 0 (else each answer is [`Sign::Undefined`]); `None`
+/// where the realization does not close in its approximations, a
+/// decision is out of reach, or a cluster's shape does not close.
+pub(super) fn slack_signs(
+    linkage: &Linkage,
+    dec: &Decomposition,
+    (bits, flat): (&[bool], Event),
+    kinds: &[&[Kind]],
+    questions: &[(usize, Kind)],
+) -> Option<Vec<Option<Sign>>> {
+    let _scope = Scope::enter();
+    let con = Construction::<Expr>::new(linkage, dec).ok()?;
+    let lambda = flat.kind.target(con.steps[flat.step].r1, con.steps[flat.step].r2);
+    let upto = kinds.len();
+    let d = con.base_distances_flat(lambda, bits, upto, &[]);
+    if d.len() <= upto {
+        return None;
+    }
+    let slack = |k: usize, kind: Kind| kind.slack_value(con.steps[k].r1, con.steps[k].r2, d[k]);
+    for (j, &ks) in kinds.iter().enumerate() {
+        for &kind in ks {
+            match sign_of(slack(j, kind).sign())? {
+                Sign::Negative | Sign::Undefined => return Some(vec![Some(Sign::Undefined); questions.len()]),
+                Sign::Zero | Sign::Positive => {}
+            }
+        }
+    }
+    Some(questions.iter().map(|&(k, kind)| sign_of(slack(k, kind).sign())).collect())
 }

@@ -859,15 +859,45 @@ impl Certifier {
             |l: Dd| distances_at(prefixes.as_deref_mut().map(|p| &mut p.dd), &dd.plain, l, bits, upto, (mask, &flat));
         let fine = self.evaluate(dd_balls, &dd.plain, bits, at, refined, &open, enclose, &mut realize);
         self.count(|c| c.double_double += fine.iter().filter(|v| v.proven.is_some()).count());
+        // What double-double left open, exactly where λ is known exactly.
+        let still: Vec<(usize, Kind)> =
+            open.iter().zip(&fine).filter(|(_, v)| v.proven.is_none()).map(|(&q, _)| q).collect();
+        let mut exact = self.exact_slack_signs(bits, at, &still).into_iter();
         let mut fine = fine.into_iter();
         fast.iter()
             .map(|f| {
                 f.proven.unwrap_or_else(|| {
                     let d = fine.next().expect("one answer per open question");
-                    d.proven.unwrap_or_else(|| self.estimate(f, &d))
+                    d.proven.or_else(|| exact.next().flatten()).unwrap_or_else(|| self.estimate(f, &d))
                 })
             })
             .collect()
+    }
+
+    /// The signs of `questions` at `at` in exact arithmetic over the input
+    /// as written, where λ is exact: an end whose first flat step stands on
+    /// the base (λ is its target). There every step reads its exact slack,
+    /// so one flat at λ is flat exactly, with no placement forced. Each
+    /// answer is proven and counted as exact; `None` where out of reach (an
+    /// end λ* that only a root defines; a λ given as an f64 without events,
+    /// which callers also use for a rounded candidate, where a touch's zero
+    /// is not; a construction deeper than
+    /// [`tolerance::EXACT_SLACK_STEPS`], a bound past the exact stage's),
+    /// and [`Sign::Undefined`] where an earlier step is proven not to close.
+    fn exact_slack_signs(&self, bits: &[bool], at: At, questions: &[(usize, Kind)]) -> Vec<Option<Sign>> {
+        let upto = questions.iter().map(|&(k, _)| k).max().unwrap_or(0);
+        let lambda = match at.events.first() {
+            Some(&e) if self.built.f64_plain.on_base(e.step) => Some(e),
+            _ => None,
+        };
+        let Some(lambda) = lambda.filter(|_| !questions.is_empty() && upto < tolerance::EXACT_SLACK_STEPS) else {
+            return vec![None; questions.len()];
+        };
+        let kinds: Vec<&[Kind]> = (0..upto).map(|j| self.kinds(j)).collect();
+        let signs = exact_stage::slack_signs(&self.built.linkage, &self.built.dec, (bits, lambda), &kinds, questions);
+        let signs = signs.unwrap_or_else(|| vec![None; questions.len()]);
+        self.count(|c| c.exact += signs.iter().filter(|s| s.is_some()).count());
+        signs
     }
 
     /// A sign the balls could not prove: ball radii grow with every level of
