@@ -427,8 +427,51 @@ fn reversed(t: &mut Scene) {
     }
 }
 
+/// Every sign the certifier proves at a point of a random linkage agrees
+/// with the slack computed in double-double from the input, and at such
+/// points (no slack near zero by design) none rests on an estimate, however
+/// deep the construction: each base distance is enclosed in its own frame.
+fn assert_signs_hold_at_points(scene: Scene, seed: u64) {
+    let (a, s) = solve_with(scene, None, Scope::Lazy);
+    let n = s.dec.steps.len();
+    let dd: Construction<Dd> = Construction::new(&a.linkage, &s.dec).expect("closes in double-double");
+    let cert = caymos::certify::Certifier::new(&a.linkage, &s.dec).expect("a certifier");
+    let questions: Vec<(usize, Kind)> = (0..n).flat_map(|k| cert.kinds(k).iter().map(move |&kind| (k, kind))).collect();
+    let mut rng = caymos::generate::SplitMix(seed);
+    let [lo, hi] = [s.union[0][0], s.union.last().expect("a range")[1]];
+    for i in 1..6 {
+        let lambda = lo + (hi - lo) * f64::from(i) / 6.0;
+        let mut bits = s.drawn.ty.0.clone();
+        for b in bits.iter_mut() {
+            *b ^= rng.below(4) == 0;
+        }
+        let signs = cert.slack_signs(&bits, caymos::certify::At { lambda, events: &[] }, &questions);
+        let d = dd.base_distances(Dd::new(lambda), &bits);
+        for (&(k, kind), sign) in questions.iter().zip(&signs) {
+            let Some(&dk) = d.get(k) else { continue };
+            let st = &dd.steps[k];
+            let v = kind.slack_value(st.r1, st.r2, dk).to_f64();
+            let want = if v > 0.0 { caymos::certify::Sign::Positive } else { caymos::certify::Sign::Negative };
+            if d.len() > k + 1 || v.abs() > 1e-20 * s.construction.scale {
+                assert_eq!(*sign, want, "step {k} {kind:?} at λ = {lambda}: double-double slack {v}");
+            }
+        }
+    }
+    assert_eq!(cert.estimated(), 0, "estimated decisions on a random {n}-step linkage");
+}
+
+#[test]
+fn proven_signs_hold_on_a_deep_chain() {
+    assert_signs_hold_at_points(chain(200), 7);
+}
+
 proptest! {
     #![proptest_config(ProptestConfig { cases: 24, ..ProptestConfig::default() })]
+
+    #[test]
+    fn proven_signs_hold_on_random_linkages(seed in any::<u64>(), steps in 2usize..60) {
+        assert_signs_hold_at_points(random_linkage(seed, steps, 0.3), seed);
+    }
 
     #[test]
     fn random_scenes_have_the_same_components_on_every_valid_base(seed in any::<u64>(), steps in 1usize..5) {
