@@ -21,6 +21,9 @@
 //! frame holds them, the base's does (λ, and the steps from there): the
 //! realization in the base's frame is the worst case, not a separate path.
 
+use std::any::Any;
+use std::cell::RefCell;
+
 use crate::real::{Ball, Real, Slope};
 use crate::realize::{Construction, Kind, P2};
 use crate::tolerance;
@@ -55,6 +58,28 @@ fn placers<T>(con: &Construction<T>) -> Vec<usize> {
         }
     }
     placer
+}
+
+/// Blocks of positions in balls and in slopes of balls.
+type Blocks<'a, T> = (&'a mut Vec<P2<Ball<T>>>, &'a mut Vec<P2<Slope<Ball<T>>>>);
+
+/// `f` on this thread's block of positions in `U`, reused: a frame
+/// touches a few joints but its block spans them all, and a fresh block per
+/// question cost a 1000-step chain a quarter of its time zeroing pages. A
+/// nested call takes a block of its own.
+fn with_scratch<U: Real, R>(f: impl FnOnce(&mut Vec<P2<U>>) -> R) -> R {
+    thread_local! {
+        static BLOCKS: RefCell<Vec<Box<dyn Any>>> = const { RefCell::new(Vec::new()) };
+    }
+    let taken = BLOCKS.with(|blocks| {
+        let mut blocks = blocks.borrow_mut();
+        let at = blocks.iter().position(|b| b.is::<Vec<P2<U>>>())?;
+        blocks.swap_remove(at).downcast::<Vec<P2<U>>>().ok()
+    });
+    let mut block = taken.map_or_else(Vec::new, |b| *b);
+    let out = f(&mut block);
+    BLOCKS.with(|blocks| blocks.borrow_mut().push(Box::new(block)));
+    out
 }
 
 /// Step lists by key, as one flat list and offsets.
@@ -158,7 +183,20 @@ impl Hinges {
         (upto, flat): (usize, &[usize]),
         stop: impl Fn(usize, &Ball<T>) -> bool,
     ) -> Option<Vec<Ball<T>>> {
-        let (mut at_point, mut over) = (Vec::new(), Vec::new());
+        with_scratch(|at_point| {
+            with_scratch(|over| self.enclosed_in((at_point, over), (balls, slopes), (lambda, bits), (upto, flat), stop))
+        })
+    }
+
+    /// [`Self::enclosures`] in the blocks of positions given.
+    fn enclosed_in<T: Real>(
+        &self,
+        (at_point, over): Blocks<T>,
+        (balls, slopes): (&Construction<Ball<T>>, &Construction<Slope<Ball<T>>>),
+        (lambda, bits): (Ball<T>, &[bool]),
+        (upto, flat): (usize, &[usize]),
+        stop: impl Fn(usize, &Ball<T>) -> bool,
+    ) -> Option<Vec<Ball<T>>> {
         let mut slope_d: Vec<Option<Slope<Ball<T>>>> = vec![None; upto + 1];
         let mut rough = Vec::new();
         let smooth = |i: usize, d: Slope<Ball<T>>| {
@@ -167,21 +205,14 @@ impl Hinges {
                 || [Kind::Stretched, Kind::Folded].iter().all(|k| k.slack_value(s.r1, s.r2, d.v).sign() == Some(1))
         };
         self.run(upto, lambda, stop, |f, base, d| {
-            let closed = self.frame(
-                balls,
-                &mut at_point,
-                (f, Ball::exact(base.m)),
-                (bits, flat, upto),
-                d,
-                |_, _| true,
-                &mut rough,
-            );
+            let closed =
+                self.frame(balls, at_point, (f, Ball::exact(base.m)), (bits, flat, upto), d, |_, _| true, &mut rough);
             if !closed || base.r == 0.0 {
                 return closed;
             }
             rough.clear();
             let variable = Slope::variable(base);
-            let _ = self.frame(slopes, &mut over, (f, variable), (bits, flat, upto), &mut slope_d, smooth, &mut rough);
+            let _ = self.frame(slopes, over, (f, variable), (bits, flat, upto), &mut slope_d, smooth, &mut rough);
             let spread = Ball { m: T::zero(), r: base.r };
             for &k in self.measured(f, upto) {
                 let (Some(point), Some(s)) = (d[k], slope_d[k]) else { continue };

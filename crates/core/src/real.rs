@@ -7,9 +7,11 @@ use crate::realize::{Input, P2, Triangle};
 use std::fmt::Debug;
 use std::ops::{Add, Div, Mul, Neg, Sub};
 
-/// A real number type the solver can run in.
+/// A real number type the solver can run in (a plain value: `'static`,
+/// so per-thread scratch can be kept by type).
 pub trait Real:
-    Copy
+    'static
+    + Copy
     + Debug
     + PartialOrd
     + Add<Output = Self>
