@@ -7,7 +7,8 @@ use std::collections::hash_map::Entry;
 use crate::cayley_space::{CayleySpace, OrientedInterval};
 use crate::inthash::{IntMap, int_map};
 use crate::linkage::Linkage;
-use crate::realize::{Construction, Event, Point2, Realization, RealizationType, to_display};
+use crate::real::{Dd, Real};
+use crate::realize::{Construction, Event, Point2, Realization, RealizationType, bar_residual, to_display};
 
 /// Which end of an interval.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -796,7 +797,24 @@ pub fn realization_at(
             .find_map(|e| con.realize(lambda + inward * e * con.scale, &s.ty).ok())
     })?;
     let shown = to_display(linkage, con.base, &pos);
-    shown.iter().all(|p| p[0].is_finite() && p[1].is_finite()).then_some(shown)
+    let finite = |p: &[Point2<f64>]| p.iter().all(|p| p[0].is_finite() && p[1].is_finite());
+    let miss = bar_residual(linkage, &shown);
+    if finite(&shown) && miss <= crate::tolerance::BAR_RESIDUAL * con.scale {
+        return Some(shown);
+    }
+    // Next to an ill-conditioned place (a step whose base joints are nearly
+    // as close as its sides' difference) f64 misses bars: realize in
+    // double-double, and keep whichever meets the bars better.
+    let dd = con.map(Dd::new);
+    let finer = dd.realize_flat(Dd::new(lambda), &s.ty.0, n, flat).ok().map(|p| {
+        let p: Vec<[f64; 2]> = p.iter().map(|q| [q[0].to_f64(), q[1].to_f64()]).collect();
+        to_display(linkage, con.base, &p)
+    });
+    match finer {
+        // (An f64 result with no finite miss is never better.)
+        Some(f) if finite(&f) && (miss.is_nan() || bar_residual(linkage, &f) < miss) => Some(f),
+        _ => finite(&shown).then_some(shown),
+    }
 }
 
 fn max_move(a: &[Point2<f64>], b: &[Point2<f64>]) -> f64 {
