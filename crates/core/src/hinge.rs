@@ -212,9 +212,14 @@ impl Hinges {
             }
             rough.clear();
             let variable = Slope::variable(base);
-            let _ = self.frame(slopes, over, (f, variable), (bits, flat, upto), &mut slope_d, smooth, &mut rough);
+            let swept = self.frame(slopes, over, (f, variable), (bits, flat, upto), &mut slope_d, smooth, &mut rough);
+            let measured = self.measured(f, upto);
+            if !swept || measured.iter().any(|&k| d[k].is_some() && slope_d[k].is_none()) {
+                // No slopes over D where the point had values: plain balls over D enclose them.
+                return self.frame(balls, at_point, (f, base), (bits, flat, upto), d, |_, _| true, &mut rough);
+            }
             let spread = Ball { m: T::zero(), r: base.r };
-            for &k in self.measured(f, upto) {
+            for &k in measured {
                 let (Some(point), Some(s)) = (d[k], slope_d[k]) else { continue };
                 let mean_value = point + s.d * spread;
                 let narrower = mean_value.r.partial_cmp(&s.v.r) == Some(std::cmp::Ordering::Less);
