@@ -149,7 +149,8 @@ impl Hinges {
     /// (the steps in `flat` placed exactly flat), as
     /// [`Construction::base_distances_flat`] gives them: up to and including
     /// the first step before `upto` that cannot close, else through `upto`
-    /// (`upto` < the number of steps).
+    /// (`upto` < the number of steps); empty where a step on the way to
+    /// one cannot be placed in that step's frame though it is in its own.
     #[cfg(test)]
     pub fn distances<T: Real>(
         &self,
@@ -164,7 +165,7 @@ impl Hinges {
             |_, _| false,
             |f, base, d| self.frame(con, &mut scratch, (f, base), (bits, flat, upto), d, |_, _| true, &mut Vec::new()),
         );
-        run.expect("never stopped")
+        run.unwrap_or_default()
     }
 
     /// [`Self::distances`] in balls, each distance by the mean-value form
@@ -175,7 +176,9 @@ impl Hinges {
     /// closes on all of D with both slacks proven positive, or is placed
     /// flat. `slopes` is `balls` in slopes of balls (constants). `stop(j,
     /// d_j)` ends the distances before step j is placed (an overflowed ball
-    /// proves nothing downstream), with `None`.
+    /// proves nothing downstream), with `None`; so does a step on the way
+    /// to one that cannot be placed in that step's frame though it is in
+    /// its own (its base joints meet to rounding).
     pub fn enclosures<T: Real>(
         &self,
         (balls, slopes): (&Construction<Ball<T>>, &Construction<Slope<Ball<T>>>),
@@ -249,8 +252,10 @@ impl Hinges {
         frame(0, lambda, &mut d);
         let mut out = Vec::with_capacity(upto + 1);
         for j in 0..=upto {
-            // (A frame whose steps on the way could not be placed: none further.)
-            let Some(dj) = d[j] else { return Some(out) };
+            // A step on the way that its own frame placed but this one
+            // could not (its base joints meet to rounding here): nothing is
+            // said, rather than that step j has no realization.
+            let dj = d[j]?;
             out.push(dj);
             if j == upto {
                 break;

@@ -495,6 +495,13 @@ impl<T: Real> Real for Slope<T> {
         let r = self.v.sqrt();
         Slope { v: r, d: self.d * (T::from_f64(1.0) / (T::from_f64(2.0) * r)) }
     }
+    /// The value clamped as `T` clamps it (a ball keeps its radius, so a
+    /// slack straddling zero still encloses the height above it); the
+    /// slope is zero where the value is below zero (the same numbers as
+    /// the default for f64 and double-double).
+    fn clamp_nonneg(self) -> Self {
+        Slope { v: self.v.clamp_nonneg(), d: if self.v < T::zero() { T::zero() } else { self.d } }
+    }
 }
 
 impl Dd {

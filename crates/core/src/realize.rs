@@ -1183,6 +1183,58 @@ mod tests {
         }
     }
 
+    /// Frames enclose a step's distance over a ball of λ where an earlier
+    /// step nears flat with its slack's ball straddling zero (a review's
+    /// counterexample: the slope of a clamped slack dropped its radius, so
+    /// the height √slack above zero was lost and the exact d_1 lay 2.5e-5
+    /// outside a ball of radius 1.8e-9). Base a, b; step 0 stretched at
+    /// λ = 7 (sides 3 and 4) carries c; step 1 stands on (c, b).
+    #[test]
+    fn frames_enclose_where_a_step_nears_flat() {
+        let step = |vertex, u, w, r1: f64, r2: f64, members_u| StepGeom {
+            vertex,
+            u,
+            w,
+            r1,
+            r2,
+            sum_diff: sum_diff(r1, r2),
+            members_u,
+            members_w: Vec::new(),
+            first_reads: FirstReads::default(),
+        };
+        let con = Construction {
+            n_joints: 5,
+            base: [0, 1],
+            steps: vec![
+                step(2, 0, 1, 3.0, 4.0, vec![Member { joint: 3, alpha: 0.5, beta: 0.5 }]),
+                step(4, 3, 1, 10.0, 10.0, vec![]),
+            ],
+            scale: 7.0,
+            shapes: vec![],
+        };
+        let hinges = crate::hinge::Hinges::new(&con).expect("hinged");
+        let balls: Construction<crate::real::Ball<f64>> = con.map(crate::real::Ball::exact);
+        let slopes = balls.map(crate::real::Slope::constant);
+        let dd: Construction<crate::real::Dd> = con.map(crate::real::Dd::new);
+        let bits = [true, true];
+        let mut checked = 0;
+        for (m, r) in [(7.0 + 1e-14, 1e-9), (7.0 + 1e-12, 1e-7), (7.0, 1e-9), (7.0 - 1e-14, 1e-9)] {
+            let l = crate::real::Ball { m, r };
+            let d = hinges.enclosures((&balls, &slopes), (l, &bits), (1, &[]), |_, _| false).expect("never stopped");
+            for t in [-0.999, -0.5, -1e-3, 0.0, 0.5, 0.999] {
+                let x = m + t * r;
+                let exact = dd.base_distances_flat(crate::real::Dd::new(x), &bits, 1, &[]);
+                if x > 7.0 || exact.len() < 2 {
+                    continue; // step 0 does not close there
+                }
+                let off = (exact[1] - crate::real::Dd::new(d[1].m)).to_f64().abs();
+                assert!(off <= d[1].r, "λ = {x}: d_1 = {} is {off:e} off a ball of {:e}", exact[1].to_f64(), d[1].r);
+                checked += 1;
+            }
+        }
+        assert!(checked >= 10, "{checked} points checked");
+    }
+
     /// The jet apex's shortcut (derivatives through d alone) against the
     /// generic formula carried through jet arithmetic step by step: the same
     /// values, bit for bit, and the same derivatives to rounding, over

@@ -1142,7 +1142,7 @@ impl Certifier {
         (upto, flat): (usize, &[usize]),
     ) -> Vec<Ball<T>> {
         match &self.built.hinges {
-            Some(h) => h.enclosures(balls, (lambda, bits), (upto, flat), |_, _| false).expect("never stopped"),
+            Some(h) => h.enclosures(balls, (lambda, bits), (upto, flat), |_, _| false).unwrap_or_default(),
             None => balls.0.base_distances_flat(lambda, bits, upto, flat),
         }
     }
