@@ -244,8 +244,12 @@ pub const BRACKET_RADIUS_MARGIN: f64 = 1e-12;
 pub const EXACT_SLACK_STEPS: usize = 24;
 
 /// A slack whose ball at an end's centre is already this wide (× scale)
-/// cannot prove a sign change within any bracket tried: the search is skipped.
-pub const BALL_TOO_WIDE: f64 = 1e-8;
+/// cannot prove a sign change within any bracket tried: the search is
+/// skipped (a bound on work). Deep in a chain a slack's ball is wide and
+/// its slope steep alike (1e-7 and 1e9 at step 996 of 1000), so a
+/// bracket of 1e-16 still proves the change: not 1e-8, which sent such
+/// ends to double-double balls.
+pub const BALL_TOO_WIDE: f64 = 1e-2;
 
 /// Newton steps that re-locate an end in double-double from its f64 value
 /// (each doubles the correct digits: 6 go far beyond double-double's 32).
