@@ -959,8 +959,11 @@ pub fn analyse_checked(
 /// accuracy, where the sweep is within the automatic budget
 /// ([`crate::tolerance::SWEEP_COST_MAX`]): what answers a lazy walk whose
 /// ends double-double did not confirm. Its intervals are sorted as the
-/// walk sorts them. The certifier's counts go back to `counts` (before
-/// the walk) first.
+/// walk sorts them, with the notes and touches met where they are. The
+/// certifier's counts go back to `counts` (before the walk) first, and
+/// to the walk's where the sweep does not answer. The accuracy is the
+/// sweep's over every type (a `runs_differ` may come from another
+/// component).
 fn swept_component(
     linkage: &Linkage,
     (dec, cx): (&Decomposition, &Complexity),
@@ -982,12 +985,39 @@ fn swept_component(
         None
     };
     let all = components(&full);
-    let at = locate(&full, &Realization { ty: drawn.ty.clone(), lambda: drawn.lambda }, linkage.scale)?;
+    let Some(at) = locate(&full, &Realization { ty: drawn.ty.clone(), lambda: drawn.lambda }, linkage.scale) else {
+        cert.rewind_counts(walked);
+        return None;
+    };
     let ours = all.of_interval[at];
     let mut intervals: Vec<_> =
         full.intervals.iter().zip(&all.of_interval).filter(|&(_, &c)| c == ours).map(|(iv, _)| iv.clone()).collect();
     intervals.sort_by(|a, b| a.ty.cmp(&b.ty).then(a.lower.lambda.total_cmp(&b.lower.lambda)));
-    Some((CayleySpace { intervals, ..full }, accuracy))
+    // What was met on the way, only where the component is.
+    let meets = |lo: f64, hi: f64| intervals.iter().any(|iv| lo <= iv.upper.lambda && hi >= iv.lower.lambda);
+    let notes = full
+        .notes
+        .iter()
+        .filter(|n| match n {
+            Note::Coincident { lambda, .. } | Note::Tangency { lambda, .. } | Note::Unresolved { lambda, .. } => {
+                meets(*lambda, *lambda)
+            }
+            Note::ZeroBase { .. } => meets(0.0, 0.0),
+            Note::Degenerate { lambda: [a, b], .. } => meets(*a, *b),
+        })
+        .cloned()
+        .collect();
+    let touches = full
+        .touches
+        .iter()
+        .filter(|t| {
+            intervals
+                .iter()
+                .any(|iv| iv.ty.0.starts_with(&t.prefix) && iv.lower.lambda <= t.lambda && t.lambda <= iv.upper.lambda)
+        })
+        .cloned()
+        .collect();
+    Some((CayleySpace { intervals, notes, touches, ..full }, accuracy))
 }
 
 /// Add `w` unless it is already there (one warning per distinct event).

@@ -398,10 +398,12 @@ pub fn branches_passed(components: &Components, segments: &[Segment], closed: bo
 /// The oriented interval holding a realization (its own type's interval).
 pub fn locate(space: &CayleySpace<f64>, r: &Realization, scale: f64) -> Option<usize> {
     let tol = crate::tolerance::FEASIBLE * scale;
-    space
-        .intervals
-        .iter()
-        .position(|i| i.ty == r.ty && r.lambda >= i.lower.lambda - tol && r.lambda <= i.upper.lambda + tol)
+    let within = |i: &OrientedInterval<f64>, tol: f64| {
+        i.ty == r.ty && r.lambda >= i.lower.lambda - tol && r.lambda <= i.upper.lambda + tol
+    };
+    // An interval holding λ itself first: two of one type can end within the tolerance of it.
+    let intervals = &space.intervals;
+    intervals.iter().position(|i| within(i, 0.0)).or_else(|| intervals.iter().position(|i| within(i, tol)))
 }
 
 /// Why a realization could not be located (see [`explain_missing`]).

@@ -64,11 +64,12 @@ pub(super) fn candidates(
 
 /// The signs of the slacks `questions` for the type prefix `bits` at the
 /// base length where the step on the base of `flat` is flat (its target),
-/// realized over the input as written. Every step before
-/// the deepest question must be proven to close there, each of its
-/// `kinds` slack ≥ 0 (else each answer is [`Sign::Undefined`]); `None`
-/// where the realization does not close in its approximations, a
-/// decision is out of reach, or a cluster's shape does not close.
+/// realized over the input as written. A question about step k is
+/// answered from its own slack where every step before it is proven to
+/// close there (each of its `kinds` slacks ≥ 0), [`Sign::Undefined`]
+/// where one is proven not to, and `None` where one is out of reach; all
+/// `None` where the realization does not close in its approximations or
+/// a cluster's shape does not close.
 pub(super) fn slack_signs(
     linkage: &Linkage,
     dec: &Decomposition,
@@ -85,13 +86,24 @@ pub(super) fn slack_signs(
         return None;
     }
     let slack = |k: usize, kind: Kind| kind.slack_value(con.steps[k].r1, con.steps[k].r2, d[k]);
-    for (j, &ks) in kinds.iter().enumerate() {
-        for &kind in ks {
-            match sign_of(slack(j, kind).sign())? {
-                Sign::Negative | Sign::Undefined => return Some(vec![Some(Sign::Undefined); questions.len()]),
-                Sign::Zero | Sign::Positive => {}
-            }
+    // Per step before the deepest question: proven to close (Some(true)), not to (Some(false)), or out of reach.
+    let closes: Vec<Option<bool>> = kinds
+        .iter()
+        .enumerate()
+        .map(|(j, &ks)| {
+            let signs: Option<Vec<Sign>> = ks.iter().map(|&kind| sign_of(slack(j, kind).sign())).collect();
+            signs.map(|s| !s.iter().any(|&s| matches!(s, Sign::Negative | Sign::Undefined)))
+        })
+        .collect();
+    let answer = |(k, kind): (usize, Kind)| {
+        let before = &closes[..k.min(closes.len())];
+        if before.contains(&Some(false)) {
+            return Some(Sign::Undefined);
         }
-    }
-    Some(questions.iter().map(|&(k, kind)| sign_of(slack(k, kind).sign())).collect())
+        if before.contains(&None) {
+            return None;
+        }
+        sign_of(slack(k, kind).sign())
+    };
+    Some(questions.iter().map(|&q| answer(q)).collect())
 }
