@@ -801,12 +801,17 @@ pub fn realization_at(
     let shown = to_display(linkage, con.base, &pos);
     let finite = |p: &[Point2<f64>]| p.iter().all(|p| p[0].is_finite() && p[1].is_finite());
     let miss = bar_residual(linkage, &shown);
-    if finite(&shown) && miss <= crate::tolerance::BAR_RESIDUAL * con.scale {
+    // A step whose base joints nearly meet places its vertex along e/|e|,
+    // carrying the rounding divided by |e|: where they are closer than
+    // √ε of the scale, f64 may meet every bar and still be far from the
+    // realization at this λ (the next λ then jumps back).
+    let near = (0..n).any(|k| con.base_distance(&pos, k) < crate::tolerance::NEAR_JOINTS * con.scale);
+    let meets = crate::tolerance::BAR_RESIDUAL * con.scale;
+    if finite(&shown) && miss <= meets && !near {
         return Some(shown);
     }
-    // Next to an ill-conditioned place (a step whose base joints are nearly
-    // as close as its sides' difference) f64 misses bars: realize in
-    // double-double, and keep whichever meets the bars better.
+    // There f64 misses bars, or may: realize in double-double, and keep
+    // whichever meets the bars better.
     let dd = con.map(Dd::new);
     let finer = dd.realize_flat(Dd::new(lambda), &s.ty.0, n, flat).ok().map(|p| {
         let p: Vec<[f64; 2]> = p.iter().map(|q| [q[0].to_f64(), q[1].to_f64()]).collect();
@@ -814,7 +819,7 @@ pub fn realization_at(
     });
     match finer {
         // (An f64 result with no finite miss is never better.)
-        Some(f) if finite(&f) && (miss.is_nan() || bar_residual(linkage, &f) < miss) => Some(f),
+        Some(f) if finite(&f) && (miss.is_nan() || bar_residual(linkage, &f) <= miss.max(meets)) => Some(f),
         _ => finite(&shown).then_some(shown),
     }
 }

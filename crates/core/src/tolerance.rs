@@ -17,6 +17,11 @@ pub const DRAWN_FLAT: f64 = 1e-9;
 /// A realization meets its bars when every bar length is within this (× scale).
 pub const BAR_RESIDUAL: f64 = 1e-9;
 
+/// Base joints closer than this (× scale, about √ε) make a step's vertex
+/// direction ill-conditioned in f64: a shown realization is then computed
+/// in double-double (a choice of precision for display, not a decision).
+pub const NEAR_JOINTS: f64 = 1e-8;
+
 /// A computed root whose slack slope |d slack/dλ| (dimensionless) is below
 /// this is a tangency (double root) and is classified by its curvature. For
 /// f64 this is 1e-10; for a finer type it shrinks with √(unit roundoff):
