@@ -44,6 +44,15 @@ fn a_body_on_a_line_as_written_is_proven_flat() {
     }
 }
 
+/// Issue 40's case 1 as a scene: the Peaucellier-like linkage with
+/// PD = 3 + `eps` (written as a decimal, e.g. "0.000001"), base A–B.
+fn near_rhombus(eps: &str) -> String {
+    format!(
+        "bars = [[\"O\", \"A\", 2], [\"A\", \"C\", 2], [\"O\", \"B\", 5], [\"O\", \"D\", 5], [\"C\", \"B\", 3], [\"B\", \"P\", 3], [\"P\", \"D\", 3{}], [\"D\", \"C\", 3]]\nbase = [\"A\", \"B\"]\n[joints]\nO = [0, 0]\nA = [2, 0]\nC = [3.285575219373, 1.532088886238]\nB = [2.385922501326, 4.394015682456]\nD = [4.899652718047, -0.996696163598]\nP = [4, 1.86523063262]\n",
+        eps.trim_start_matches('0')
+    )
+}
+
 /// Issue 40, case 1: a Peaucellier-like linkage (OA = AC = 2, OB = OD = 5,
 /// CB = BP = DC = 3) with PD = 3 + ε. Where D folds, B and D meet, and P
 /// (which needs |BD| ≥ ε) folds just before: 2 closed components, as a
@@ -57,10 +66,7 @@ fn a_body_on_a_line_as_written_is_proven_flat() {
 #[test]
 fn a_near_rhombus_has_two_closed_components_on_every_base() {
     for eps in ["0.00001", "0.000001", "0.0000000001", "0.000000000001", "0.00000000000001"] {
-        let text = format!(
-            "bars = [[\"O\", \"A\", 2], [\"A\", \"C\", 2], [\"O\", \"B\", 5], [\"O\", \"D\", 5], [\"C\", \"B\", 3], [\"B\", \"P\", 3], [\"P\", \"D\", 3{}], [\"D\", \"C\", 3]]\nbase = [\"A\", \"B\"]\n[joints]\nO = [0, 0]\nA = [2, 0]\nC = [3.285575219373, 1.532088886238]\nB = [2.385922501326, 4.394015682456]\nD = [4.899652718047, -0.996696163598]\nP = [4, 1.86523063262]\n",
-            eps.trim_start_matches('0')
-        );
+        let text = near_rhombus(eps);
         let (a, s) = solve_text(&text, "near-rhombus");
         for base in every_base(&a, &s) {
             let scene = || caymos::scene::parse_scene(&text, "near-rhombus", "near-rhombus").unwrap();
@@ -182,13 +188,10 @@ fn timings_count_the_decisions_of_each_stage() {
 #[test]
 fn a_trace_through_a_near_rhombus_meets_every_bar() {
     for (eps, base) in [("0.000001", "O,C"), ("0.0000000001", "A,B"), ("0.000000000001", "A,B")] {
-        let pd = format!("3{}", eps.trim_start_matches('0'));
-        let text = format!(
-            "bars = [[\"O\", \"A\", 2], [\"A\", \"C\", 2], [\"O\", \"B\", 5], [\"O\", \"D\", 5], [\"C\", \"B\", 3], [\"B\", \"P\", 3], [\"P\", \"D\", {pd}], [\"D\", \"C\", 3]]\nbase = [\"O\", \"C\"]\n[joints]\nO = [0, 0]\nA = [2, 0]\nC = [3.285575219373, 1.532088886238]\nB = [2.385922501326, 4.394015682456]\nD = [4.899652718047, -0.996696163598]\nP = [4, 1.86523063262]\n"
-        );
+        let text = near_rhombus(eps);
         let file = scratch("near-rhombus-trace").join(format!("near-rhombus-{eps}.toml"));
         std::fs::write(&file, text).unwrap();
-        let pd: f64 = pd.parse().unwrap();
+        let pd: f64 = format!("3{}", eps.trim_start_matches('0')).parse().unwrap();
         let bars = [
             ("O", "A", 2.0),
             ("A", "C", 2.0),

@@ -324,8 +324,7 @@ impl Hinges {
                 rough.push(k);
             }
             if closed {
-                let e = [scratch[t.w][0] - scratch[t.u][0], scratch[t.w][1] - scratch[t.u][1]];
-                d[k] = Some(U::hypot(e[0], e[1]));
+                d[k] = Some(con.base_distance(scratch, k));
             }
         }
         true

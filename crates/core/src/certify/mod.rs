@@ -39,7 +39,6 @@ use crate::hinge::Hinges;
 use crate::inthash::IntMap;
 use crate::linkage::Linkage;
 use crate::real::{Ball, Dd, Real, Slope};
-
 use crate::realize::{Construction, Event, Kind, P2, bits_word};
 use crate::tolerance;
 
